@@ -1,0 +1,2 @@
+//! Being written; see the crate README.
+fn main() {}

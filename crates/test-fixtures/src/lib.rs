@@ -1,0 +1,48 @@
+//! Locates the real data in `../shared/fixtures` (beside the workspace root) for tests and
+//! benchmarks, and applies the project's rule for missing data: under CI (`CI=true`) a
+//! missing fixture is a failure; elsewhere the caller skips with a printed reason.
+//!
+//! ```no_run
+//! let Some(path) = test_fixtures::fixture("synpeb/pc_01.pcd") else {
+//!     return; // not in CI and the data is absent: skipped, reason printed
+//! };
+//! assert!(path.is_file());
+//! ```
+
+use std::path::PathBuf;
+
+/// The `shared/fixtures` folder beside the workspace root, or the folder named by the
+/// `POLYLIDAR_FIXTURES` environment variable.
+pub fn fixtures_dir() -> PathBuf {
+    if let Some(dir) = std::env::var_os("POLYLIDAR_FIXTURES") {
+        return PathBuf::from(dir);
+    }
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/fixtures")
+}
+
+/// Whether this process runs under CI (`CI` set to anything but `false` or `0`).
+pub fn in_ci() -> bool {
+    std::env::var("CI").is_ok_and(|v| !v.is_empty() && v != "false" && v != "0")
+}
+
+/// The path of fixture `relative` (e.g. `"synpeb/pc_01.pcd"`) if it exists.
+///
+/// # Panics
+/// Under CI when the file is missing: tests that need real data must not pass silently
+/// there. Elsewhere a missing file prints the reason to stderr and returns `None`.
+pub fn fixture(relative: &str) -> Option<PathBuf> {
+    let path = fixtures_dir().join(relative);
+    if path.is_file() {
+        return Some(path);
+    }
+    let message = format!(
+        "fixture {relative} not found at {} (expected ../shared/fixtures beside the workspace)",
+        path.display()
+    );
+    #[allow(clippy::panic)]
+    if in_ci() {
+        panic!("{message}; CI=true, so this is a failure");
+    }
+    eprintln!("skipping: {message}");
+    None
+}
