@@ -274,7 +274,10 @@ fn link_twins(
 }
 
 /// The first half-edge of the group paired with the first later one running the other way.
-fn first_opposite_pair(group: &[(u64, u32)], opposite: impl Fn(u32, u32) -> bool) -> Option<(u32, u32)> {
+fn first_opposite_pair(
+    group: &[(u64, u32)],
+    opposite: impl Fn(u32, u32) -> bool,
+) -> Option<(u32, u32)> {
     group.iter().enumerate().find_map(|(i, &(_, a))| {
         group[i + 1..]
             .iter()

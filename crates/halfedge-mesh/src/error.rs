@@ -10,13 +10,17 @@ pub enum MeshError {
         found: usize,
     },
     /// A point coordinate is NaN or infinite.
-    #[error("point {index} has a non-finite coordinate (NaN or infinity); remove or repair it first")]
+    #[error(
+        "point {index} has a non-finite coordinate (NaN or infinity); remove or repair it first"
+    )]
     NonFinitePoint {
         /// Index of the offending point.
         index: usize,
     },
     /// The points span no area (all on one line or all equal).
-    #[error("all {count} points are collinear or coincide; a triangulation needs points spanning an area")]
+    #[error(
+        "all {count} points are collinear or coincide; a triangulation needs points spanning an area"
+    )]
     Collinear {
         /// Number of points given.
         count: usize,
@@ -30,7 +34,9 @@ pub enum MeshError {
         count: usize,
     },
     /// A triangle references a vertex that does not exist.
-    #[error("triangle {triangle} references vertex {vertex}, but the mesh has only {num_vertices} vertices")]
+    #[error(
+        "triangle {triangle} references vertex {vertex}, but the mesh has only {num_vertices} vertices"
+    )]
     IndexOutOfRange {
         /// Triangle index.
         triangle: usize,

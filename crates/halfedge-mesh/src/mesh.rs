@@ -258,7 +258,12 @@ impl HalfEdgeMesh {
                 continue;
             }
             let h = h as u32;
-            let bad = |reason| Err(MeshError::BadTwin { halfedge: h, reason });
+            let bad = |reason| {
+                Err(MeshError::BadTwin {
+                    halfedge: h,
+                    reason,
+                })
+            };
             if twin as usize >= self.halfedges.len() {
                 return bad("twin index out of range");
             }
