@@ -55,7 +55,12 @@ impl HalfEdgeMesh {
         halfedges: Vec<u32>,
         triangle_normals: Vec<[f64; 3]>,
     ) -> Result<Self, MeshError> {
-        let mesh = Self::from_parts_trusted(vertices, triangles, halfedges, triangle_normals);
+        let mesh = Self {
+            vertices,
+            triangles,
+            halfedges,
+            triangle_normals,
+        };
         mesh.sanity_check()?;
         Ok(mesh)
     }
