@@ -1,1 +1,40 @@
-//! placeholder
+//! Polylidar in Rust: planes and non-convex polygons with holes from 2D point sets and
+//! point clouds.
+//!
+//! This facade chains the stages of the workspace. Today it runs the Polylidar pipeline
+//! of the 2D paper on
+//!
+//! * 2D point sets ([`Polylidar::extract_2d`]): Delaunay triangulation, triangle filtering
+//!   by α (circumradius) or `lmax` (longest edge), region growing over twin half-edges,
+//!   boundary following into polygons with holes;
+//! * 3D clouds seen from one direction ([`Polylidar::extract_25d`], "2.5D"): the same on
+//!   the cloud triangulated along [`Config::up`], with triangles kept only where their
+//!   normal is within `norm_thresh` of `up` — flat roofs and floors from airborne LiDAR.
+//!
+//! Each result carries per-stage [`Counts`] and [`Timings`] so that an empty result can be
+//! explained.
+//!
+//! ```
+//! use polylidar::{Config, Polylidar};
+//!
+//! let points: Vec<[f64; 2]> = (0..900).map(|i| [(i % 30) as f64, (i / 30) as f64]).collect();
+//! let extraction = Polylidar::new(Config::new().with_alpha(1.0))?.extract_2d(&points)?;
+//! assert_eq!(extraction.polygons.len(), 1);
+//! assert_eq!(extraction.diagnostics.counts.triangles_kept, 29 * 29 * 2);
+//! # Ok::<(), polylidar::PolylidarError>(())
+//! ```
+
+#![deny(rustdoc::broken_intra_doc_links)]
+
+mod config;
+mod diagnostics;
+mod error;
+mod filter;
+mod pipeline;
+mod regions;
+
+pub use config::Config;
+pub use diagnostics::{Counts, Diagnostics, Timings};
+pub use error::PolylidarError;
+pub use halfedge_mesh::{HalfEdgeMesh, MeshError};
+pub use pipeline::{ExtractedPolygon, Extraction, Polylidar};

@@ -1,0 +1,81 @@
+//! Per-stage counts and timings, so a user can see where triangles, regions and holes went.
+
+use std::time::{Duration, Instant};
+
+use serde::Serialize;
+
+/// What each stage kept and dropped. Serialized with these field names by the CLI's
+/// `--json` output.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]
+pub struct Counts {
+    /// Input points.
+    pub points: usize,
+    /// Points left out of the triangulation because an equal point was already in it.
+    pub duplicate_points: usize,
+    /// Triangles in the mesh.
+    pub triangles: usize,
+    /// Triangles dropped because their normal is too far from `up` (2.5D).
+    pub dropped_normal: usize,
+    /// Triangles dropped by the `lmax` test.
+    pub dropped_lmax: usize,
+    /// Triangles dropped by the α test.
+    pub dropped_alpha: usize,
+    /// Triangles that passed every test.
+    pub triangles_kept: usize,
+    /// Edge-connected regions of kept triangles.
+    pub regions: usize,
+    /// Regions dropped for having fewer than `min_triangles` triangles.
+    pub regions_too_small: usize,
+    /// Polygons returned.
+    pub polygons: usize,
+    /// Holes returned.
+    pub holes: usize,
+    /// Holes dropped for having fewer than `min_hole_vertices` vertices.
+    pub holes_too_small: usize,
+}
+
+/// Wall-clock time per pipeline stage, in execution order.
+///
+/// Stage names: `mesh` (triangulation or meshing, normals included), `regions` (triangle
+/// filtering and region growing), `polygons` (boundary following).
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct Timings {
+    stages: Vec<(&'static str, Duration)>,
+}
+
+impl Timings {
+    /// The stages and their durations, in order.
+    pub fn stages(&self) -> &[(&'static str, Duration)] {
+        &self.stages
+    }
+
+    /// The duration of a stage, if it ran.
+    pub fn get(&self, stage: &str) -> Option<Duration> {
+        self.stages
+            .iter()
+            .find(|(s, _)| *s == stage)
+            .map(|(_, d)| *d)
+    }
+
+    /// The sum of all stages.
+    pub fn total(&self) -> Duration {
+        self.stages.iter().map(|(_, d)| *d).sum()
+    }
+
+    /// Runs `f`, recording its duration under `stage`.
+    pub(crate) fn time<T>(&mut self, stage: &'static str, f: impl FnOnce() -> T) -> T {
+        let start = Instant::now();
+        let out = f();
+        self.stages.push((stage, start.elapsed()));
+        out
+    }
+}
+
+/// Counts and timings of one pipeline run.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct Diagnostics {
+    /// What each stage kept and dropped.
+    pub counts: Counts,
+    /// How long each stage took.
+    pub timings: Timings,
+}

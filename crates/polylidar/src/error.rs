@@ -1,0 +1,39 @@
+//! The facade's error type.
+
+use halfedge_mesh::MeshError;
+use polyextract::ExtractError;
+
+/// Why the pipeline could not run.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum PolylidarError {
+    /// A configuration value is out of range.
+    #[error("invalid configuration: {field} = {value} ({reason})")]
+    Config {
+        /// The config field, as named in TOML.
+        field: &'static str,
+        /// The value given.
+        value: String,
+        /// What it must be.
+        reason: &'static str,
+    },
+    /// The input could not be meshed.
+    #[error(transparent)]
+    Mesh(#[from] MeshError),
+    /// A region's boundary could not be followed (a bug or a corrupt mesh; please report).
+    #[error("polygon extraction of region {region} failed: {source}")]
+    Extract {
+        /// Index of the region among those kept.
+        region: usize,
+        /// The extraction error.
+        source: ExtractError,
+    },
+    /// The rayon thread pool could not be created.
+    #[error("could not start {threads} worker threads: {message}")]
+    ThreadPool {
+        /// Threads requested.
+        threads: usize,
+        /// The system's message.
+        message: String,
+    },
+}

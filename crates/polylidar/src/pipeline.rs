@@ -1,0 +1,273 @@
+//! The 2D and 2.5D Polylidar pipeline: mesh → filter → regions → polygons.
+
+use halfedge_mesh::HalfEdgeMesh;
+use polyextract::Extractor;
+use rayon::prelude::*;
+
+use crate::filter::TriangleFilter;
+use crate::regions::Regions;
+use crate::{Config, Counts, Diagnostics, PolylidarError, Timings};
+
+/// A polygon with holes extracted from one region: point indices into the input, their
+/// coordinates, and the region's triangles.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ExtractedPolygon {
+    /// Shell point indices, counter-clockwise seen from `up` (open ring).
+    pub shell: Vec<u32>,
+    /// Hole point indices, clockwise (open rings).
+    pub holes: Vec<Vec<u32>>,
+    /// Shell coordinates (`z = 0` for 2D input).
+    pub shell_points: Vec<[f64; 3]>,
+    /// Hole coordinates.
+    pub hole_points: Vec<Vec<[f64; 3]>>,
+    /// The triangles of the region, indices into [`Extraction::mesh`].
+    pub triangles: Vec<u32>,
+}
+
+/// The result of a pipeline run.
+#[derive(Debug, Clone)]
+pub struct Extraction {
+    /// The triangulation the polygons were extracted from.
+    pub mesh: HalfEdgeMesh,
+    /// The polygons, ordered by their region's first triangle.
+    pub polygons: Vec<ExtractedPolygon>,
+    /// Per-stage counts and timings.
+    pub diagnostics: Diagnostics,
+}
+
+/// The Polylidar pipeline for 2D point sets and 2.5D clouds.
+///
+/// ```
+/// use polylidar::{Config, Polylidar};
+///
+/// // A 20 × 20 grid with a 4 × 4 hole in the middle.
+/// let points: Vec<[f64; 2]> = (0..400)
+///     .map(|i| [(i % 20) as f64, (i / 20) as f64])
+///     .filter(|p| !(8.0..12.0).contains(&p[0]) || !(8.0..12.0).contains(&p[1]))
+///     .collect();
+/// let polylidar = Polylidar::new(Config::new().with_lmax(1.5))?;
+/// let extraction = polylidar.extract_2d(&points)?;
+/// assert_eq!(extraction.polygons.len(), 1);
+/// assert_eq!(extraction.polygons[0].holes.len(), 1);
+/// # Ok::<(), polylidar::PolylidarError>(())
+/// ```
+#[derive(Debug)]
+pub struct Polylidar {
+    config: Config,
+    pool: Option<rayon::ThreadPool>,
+}
+
+impl Polylidar {
+    /// Checks the configuration and prepares the worker threads.
+    ///
+    /// # Errors
+    /// [`PolylidarError::Config`] for out-of-range parameters,
+    /// [`PolylidarError::ThreadPool`] if the threads cannot start.
+    pub fn new(config: Config) -> Result<Self, PolylidarError> {
+        config.validate()?;
+        let pool = match config.threads {
+            0 => None,
+            threads => Some(
+                rayon::ThreadPoolBuilder::new()
+                    .num_threads(threads)
+                    .build()
+                    .map_err(|e| PolylidarError::ThreadPool {
+                        threads,
+                        message: e.to_string(),
+                    })?,
+            ),
+        };
+        Ok(Self { config, pool })
+    }
+
+    /// The configuration in use.
+    pub fn config(&self) -> &Config {
+        &self.config
+    }
+
+    /// Extracts polygons from a 2D point set: Delaunay triangulation, α / `lmax`
+    /// filtering, region growing, boundary following.
+    ///
+    /// # Errors
+    /// [`PolylidarError::Mesh`] for input that cannot be triangulated (fewer than 3
+    /// points, NaN, all collinear), [`PolylidarError::Extract`] if a boundary is broken.
+    pub fn extract_2d(&self, points: &[[f64; 2]]) -> Result<Extraction, PolylidarError> {
+        self.install(|| {
+            let mut timings = Timings::default();
+            let (mesh, report) =
+                timings.time("mesh", || HalfEdgeMesh::delaunay_2d_with_report(points))?;
+            let counts = Counts {
+                points: points.len(),
+                duplicate_points: report.duplicate_points,
+                ..Counts::default()
+            };
+            self.extract_from_mesh(mesh, None, counts, timings, |p| [p[0], p[1]])
+        })
+    }
+
+    /// Extracts polygons from a 3D cloud seen along [`Config::up`] (2.5D): triangulation of
+    /// the projected points, the normal test against `up`, α / `lmax` on 3D triangles,
+    /// region growing, and boundary following in the plane orthogonal to `up`.
+    ///
+    /// # Errors
+    /// As [`Self::extract_2d`].
+    pub fn extract_25d(&self, points: &[[f64; 3]]) -> Result<Extraction, PolylidarError> {
+        self.install(|| {
+            let mut timings = Timings::default();
+            let up = unit(self.config.up);
+            let (mesh, report) = timings.time("mesh", || {
+                HalfEdgeMesh::delaunay_25d_with_report(points, up)
+            })?;
+            let counts = Counts {
+                points: points.len(),
+                duplicate_points: report.duplicate_points,
+                ..Counts::default()
+            };
+            let frame = PlaneFrame::new(up);
+            self.extract_from_mesh(mesh, Some(up), counts, timings, |p| frame.project(p))
+        })
+    }
+
+    fn install<T: Send>(&self, f: impl FnOnce() -> T + Send) -> T {
+        match &self.pool {
+            Some(pool) => pool.install(f),
+            None => f(),
+        }
+    }
+
+    /// Filter, regions and polygons on a built mesh.
+    fn extract_from_mesh(
+        &self,
+        mesh: HalfEdgeMesh,
+        up: Option<[f64; 3]>,
+        mut counts: Counts,
+        mut timings: Timings,
+        project: impl Fn([f64; 3]) -> [f64; 2] + Sync,
+    ) -> Result<Extraction, PolylidarError> {
+        let config = &self.config;
+        counts.triangles = mesh.num_triangles();
+        let (regions, kept) = timings.time("regions", || {
+            let filter = TriangleFilter {
+                alpha: config.alpha,
+                lmax: config.lmax,
+                normal: up.map(|u| (u, config.norm_thresh)),
+            };
+            let (keep, dropped) = filter.apply(&mesh);
+            counts.dropped_normal = dropped.normal;
+            counts.dropped_lmax = dropped.lmax;
+            counts.dropped_alpha = dropped.alpha;
+            counts.triangles_kept =
+                counts.triangles - dropped.normal - dropped.lmax - dropped.alpha;
+            let regions = Regions::grow(&mesh, &keep);
+            let kept: Vec<usize> = (0..regions.len())
+                .filter(|&r| regions.region(r).len() >= config.min_triangles.max(1))
+                .collect();
+            (regions, kept)
+        });
+        counts.regions = regions.len();
+        counts.regions_too_small = regions.len() - kept.len();
+
+        let vertices = mesh.vertices();
+        let results: Vec<Result<(ExtractedPolygon, usize), PolylidarError>> =
+            timings.time("polygons", || {
+                kept.par_iter()
+                    .enumerate()
+                    .map_init(Extractor::new, |extractor, (k, &r)| {
+                        let triangles = regions.region(r);
+                        let label = r as u32;
+                        let polygon = extractor
+                            .extract(
+                                &mesh,
+                                triangles,
+                                |t| regions.labels[t as usize] == label,
+                                |i| project(vertices[i as usize]),
+                            )
+                            .map_err(|source| PolylidarError::Extract { region: k, source })?;
+                        let before = polygon.holes.len();
+                        let holes: Vec<Vec<u32>> = polygon
+                            .holes
+                            .into_iter()
+                            .filter(|h| h.len() >= config.min_hole_vertices)
+                            .collect();
+                        let coords = |ring: &[u32]| -> Vec<[f64; 3]> {
+                            ring.iter().map(|&i| vertices[i as usize]).collect()
+                        };
+                        Ok((
+                            ExtractedPolygon {
+                                shell_points: coords(&polygon.shell),
+                                hole_points: holes.iter().map(|h| coords(h)).collect(),
+                                shell: polygon.shell,
+                                holes,
+                                triangles: triangles.to_vec(),
+                            },
+                            before,
+                        ))
+                    })
+                    .collect()
+            });
+        let mut polygons = Vec::with_capacity(results.len());
+        for result in results {
+            let (polygon, holes_before) = result?;
+            counts.holes += polygon.holes.len();
+            counts.holes_too_small += holes_before - polygon.holes.len();
+            polygons.push(polygon);
+        }
+        counts.polygons = polygons.len();
+        Ok(Extraction {
+            mesh,
+            polygons,
+            diagnostics: Diagnostics { counts, timings },
+        })
+    }
+}
+
+fn unit(v: [f64; 3]) -> [f64; 3] {
+    let len = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+    v.map(|c| c / len)
+}
+
+/// Coordinates in the plane orthogonal to a unit `up`, right-handed about it: for
+/// `up = +z` they are plain `(x, y)`.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct PlaneFrame {
+    e1: [f64; 3],
+    e2: [f64; 3],
+}
+
+impl PlaneFrame {
+    pub(crate) fn new(up: [f64; 3]) -> Self {
+        if up == [0.0, 0.0, 1.0] {
+            return Self {
+                e1: [1.0, 0.0, 0.0],
+                e2: [0.0, 1.0, 0.0],
+            };
+        }
+        let axis = if up[0].abs() <= up[1].abs() && up[0].abs() <= up[2].abs() {
+            [1.0, 0.0, 0.0]
+        } else if up[1].abs() <= up[2].abs() {
+            [0.0, 1.0, 0.0]
+        } else {
+            [0.0, 0.0, 1.0]
+        };
+        let d = axis[0] * up[0] + axis[1] * up[1] + axis[2] * up[2];
+        let e1 = unit([
+            axis[0] - d * up[0],
+            axis[1] - d * up[1],
+            axis[2] - d * up[2],
+        ]);
+        let e2 = [
+            up[1] * e1[2] - up[2] * e1[1],
+            up[2] * e1[0] - up[0] * e1[2],
+            up[0] * e1[1] - up[1] * e1[0],
+        ];
+        Self { e1, e2 }
+    }
+
+    #[inline]
+    pub(crate) fn project(&self, p: [f64; 3]) -> [f64; 2] {
+        [
+            p[0] * self.e1[0] + p[1] * self.e1[1] + p[2] * self.e1[2],
+            p[0] * self.e2[0] + p[1] * self.e2[1] + p[2] * self.e2[2],
+        ]
+    }
+}
