@@ -32,6 +32,7 @@ mod error;
 mod filter;
 mod pipeline;
 mod regions;
+pub mod shapes;
 
 pub use config::Config;
 pub use diagnostics::{Counts, Diagnostics, Timings};
