@@ -1,0 +1,201 @@
+//! The 2D post-processing of one polygon: sanitise, repair, simplify, buffer out, buffer
+//! in, filter by area, check validity.
+
+use geo::algorithm::bool_ops::FillRule;
+use geo::algorithm::buffer::{BufferStyle, LineJoin};
+use geo::{Area, BooleanOps, Buffer, Coord, LineString, MultiPolygon, OpType, Polygon, Simplify};
+
+use crate::config::{BufferJoin, PostprocessConfig};
+use crate::diagnostics::{Diagnostics, DropReason};
+use crate::valid::{ValidityScratch, check_valid, fast_valid};
+
+/// Runs the whole pipeline on `polygon` (input number `source`), recording what happened
+/// in `diag`. Every polygon returned is valid for `geo::Validation`, has a
+/// counter-clockwise shell and clockwise holes.
+pub(crate) fn process_polygon(
+    polygon: &Polygon<f64>,
+    config: &PostprocessConfig,
+    source: u32,
+    diag: &mut Diagnostics,
+    scratch: &mut ValidityScratch,
+) -> Vec<Polygon<f64>> {
+    diag.input_polygons += 1;
+    let polygon = match sanitize(polygon, diag) {
+        Ok(p) => p,
+        Err(reason) => {
+            diag.drop_invalid(source, reason);
+            return Vec::new();
+        }
+    };
+    let mut parts = if fast_valid(&polygon, scratch) {
+        vec![polygon]
+    } else {
+        diag.repaired_inputs += 1;
+        let repaired = repair(&polygon).0;
+        if repaired.is_empty() {
+            diag.drop_invalid(source, DropReason::NoAreaAfterRepair);
+            return Vec::new();
+        }
+        repaired
+    };
+    if config.alpha > 0.0 {
+        parts = simplify_parts(parts, config.alpha, diag, scratch);
+    }
+    let mut shape = MultiPolygon(parts);
+    if config.beta_pos > 0.0 && !shape.0.is_empty() {
+        shape = shape.buffer_with_style(buffer_style(config.beta_pos, config.buffer_join));
+    }
+    if config.beta_neg > 0.0 && !shape.0.is_empty() {
+        shape = shape.buffer_with_style(buffer_style(-config.beta_neg, config.buffer_join));
+    }
+    shape.0.retain(|p| !p.exterior().0.is_empty());
+    if shape.0.is_empty() {
+        diag.vanished += 1;
+        return Vec::new();
+    }
+    let mut out = Vec::with_capacity(shape.0.len());
+    for part in shape.0 {
+        if part.unsigned_area() < config.min_area {
+            diag.dropped_by_area += 1;
+            continue;
+        }
+        let part = finish(part, config.min_hole_area, diag);
+        match check_valid(&part, scratch) {
+            Ok(()) => out.push(part),
+            Err(detail) => {
+                diag.drop_invalid(source, DropReason::InvalidAfterProcessing { detail });
+            }
+        }
+    }
+    diag.output_polygons += out.len() as u32;
+    out
+}
+
+/// Checks coordinates, removes repeated consecutive vertices, closes rings, removes holes
+/// without area.
+fn sanitize(polygon: &Polygon<f64>, diag: &mut Diagnostics) -> Result<Polygon<f64>, DropReason> {
+    let finite = |ls: &LineString<f64>| ls.0.iter().all(|c| c.x.is_finite() && c.y.is_finite());
+    if !finite(polygon.exterior()) || !polygon.interiors().iter().all(finite) {
+        return Err(DropReason::NonFiniteCoordinate);
+    }
+    let (shell, distinct_vertices) = clean_ring(polygon.exterior());
+    if distinct_vertices < 3 {
+        return Err(DropReason::DegenerateShell { distinct_vertices });
+    }
+    let mut holes = Vec::with_capacity(polygon.interiors().len());
+    for hole in polygon.interiors() {
+        let (ring, distinct) = clean_ring(hole);
+        if distinct < 3 {
+            diag.degenerate_holes_removed += 1;
+        } else {
+            holes.push(ring);
+        }
+    }
+    Ok(Polygon::new(shell, holes))
+}
+
+/// The ring without consecutive repeated vertices, closed; and its vertex count.
+fn clean_ring(ring: &LineString<f64>) -> (LineString<f64>, usize) {
+    let mut coords: Vec<Coord<f64>> = Vec::with_capacity(ring.0.len() + 1);
+    for &c in &ring.0 {
+        if coords.last() != Some(&c) {
+            coords.push(c);
+        }
+    }
+    while coords.len() > 1 && coords.first() == coords.last() {
+        coords.pop();
+    }
+    let distinct = coords.len();
+    if let Some(&first) = coords.first() {
+        coords.push(first);
+    }
+    (LineString(coords), distinct)
+}
+
+/// Rebuilds a valid multipolygon covering the region inside the shell (non-zero winding,
+/// so every loop of a self-intersecting shell counts as inside) minus the region inside
+/// any hole (each hole oriented counter-clockwise first, so overlapping holes unite).
+pub(crate) fn repair(polygon: &Polygon<f64>) -> MultiPolygon<f64> {
+    let shell = Polygon::new(polygon.exterior().clone(), Vec::new());
+    let holes = MultiPolygon(
+        polygon
+            .interiors()
+            .iter()
+            .map(|h| {
+                let mut ring = h.clone();
+                if signed_ring_area(&ring.0) < 0.0 {
+                    ring.0.reverse();
+                }
+                Polygon::new(ring, Vec::new())
+            })
+            .collect(),
+    );
+    let mut out = shell.boolean_op_with_fill_rule(&holes, OpType::Difference, FillRule::NonZero);
+    out.0.retain(|p| p.exterior().0.len() >= 4);
+    out
+}
+
+/// Ramer–Douglas–Peucker on every ring with tolerance `alpha`; a part made invalid by it
+/// is repaired (which may split it or drop slivers).
+fn simplify_parts(
+    parts: Vec<Polygon<f64>>,
+    alpha: f64,
+    diag: &mut Diagnostics,
+    scratch: &mut ValidityScratch,
+) -> Vec<Polygon<f64>> {
+    let mut out = Vec::with_capacity(parts.len());
+    for part in parts {
+        let simple = part.simplify(alpha);
+        if fast_valid(&simple, scratch) {
+            out.push(simple);
+        } else {
+            diag.repaired_after_simplify += 1;
+            out.extend(repair(&simple).0);
+        }
+    }
+    out
+}
+
+fn buffer_style(distance: f64, join: BufferJoin) -> BufferStyle<f64> {
+    let join = match join {
+        BufferJoin::Round { max_angle } => LineJoin::Round(max_angle),
+        BufferJoin::Miter { min_angle } => LineJoin::Miter(min_angle),
+        BufferJoin::Bevel => LineJoin::Bevel,
+    };
+    BufferStyle::new(distance).line_join(join)
+}
+
+/// Drops holes smaller than `min_hole_area` and orients the shell counter-clockwise and
+/// the holes clockwise.
+fn finish(part: Polygon<f64>, min_hole_area: f64, diag: &mut Diagnostics) -> Polygon<f64> {
+    let (mut shell, holes) = part.into_inner();
+    if signed_ring_area(&shell.0) < 0.0 {
+        shell.0.reverse();
+    }
+    let mut kept = Vec::with_capacity(holes.len());
+    for mut hole in holes {
+        let a = signed_ring_area(&hole.0);
+        if a.abs() < min_hole_area {
+            diag.holes_dropped_by_area += 1;
+            continue;
+        }
+        if a > 0.0 {
+            hole.0.reverse();
+        }
+        kept.push(hole);
+    }
+    Polygon::new(shell, kept)
+}
+
+/// Signed area of a closed ring (positive = counter-clockwise), shoelace around the
+/// first vertex.
+pub(crate) fn signed_ring_area(ring: &[Coord<f64>]) -> f64 {
+    let Some(&o) = ring.first() else {
+        return 0.0;
+    };
+    let mut twice = 0.0;
+    for w in ring.windows(2) {
+        twice += (w[0].x - o.x) * (w[1].y - o.y) - (w[1].x - o.x) * (w[0].y - o.y);
+    }
+    0.5 * twice
+}
