@@ -2,13 +2,14 @@
 
 /// Why an organized point cloud could not be built or meshed.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum OpcError {
     /// Fewer than two rows or columns: no cell can form a triangle.
     #[error("an organized cloud needs at least 2 rows and 2 columns, got {rows} × {cols}")]
     TooSmall {
-        /// Rows given.
+        /// Rows given (after downsampling, where a stride was applied).
         rows: usize,
-        /// Columns given.
+        /// Columns given (after downsampling, where a stride was applied).
         cols: usize,
     },
     /// The number of points is not `rows × cols`.
@@ -21,12 +22,59 @@ pub enum OpcError {
         /// Points given.
         found: usize,
     },
-    /// The image is too large for `u32` triangle and half-edge indices.
+    /// A flat `f64` buffer does not hold `rows × cols × 3` values (x, y, z per point).
+    #[error(
+        "a flat buffer of {found} f64 values does not hold {rows} rows × {cols} columns × 3 \
+         coordinates ({} expected); pass a C-contiguous (rows, cols, 3) array",
+        rows * cols * 3
+    )]
+    FlatLengthMismatch {
+        /// Rows given.
+        rows: usize,
+        /// Columns given.
+        cols: usize,
+        /// Values given.
+        found: usize,
+    },
+    /// A depth image does not hold `rows × cols` pixels.
+    #[error("a depth image of {found} pixels does not fill {rows} rows × {cols} columns ({} expected)", rows * cols)]
+    DepthLengthMismatch {
+        /// Rows given.
+        rows: usize,
+        /// Columns given.
+        cols: usize,
+        /// Pixels given.
+        found: usize,
+    },
+    /// The image is too large for `u32` point, triangle and half-edge indices.
     #[error("{rows} × {cols} points exceed the u32 index space of the mesh")]
     TooLarge {
         /// Rows given.
         rows: usize,
         /// Columns given.
         cols: usize,
+    },
+    /// A parameter is out of its range.
+    #[error("{name} = {value} is invalid: it must be {expected}")]
+    InvalidParameter {
+        /// The parameter's name, as in the options struct.
+        name: &'static str,
+        /// The value given, as text.
+        value: String,
+        /// The range it must lie in.
+        expected: &'static str,
+    },
+    /// No cell of the cloud has a triangle with three valid, distinct vertices (for example
+    /// a cloud that is all NaN).
+    #[error(
+        "no triangle can be formed: {valid_points} of {points} points are valid, and a \
+         triangle needs three valid neighbours (a pixel, its right or lower neighbour and \
+         its lower-right neighbour)"
+    )]
+    NoTriangles {
+        /// Valid (finite) points in the cloud.
+        valid_points: usize,
+        /// All points in the cloud.
+        points: usize,
     },
 }

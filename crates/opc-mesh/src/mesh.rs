@@ -1,0 +1,508 @@
+//! Right-cut half-edge meshing of organized point clouds (Polylidar3D §4.2, Alg. 1–2).
+//!
+//! Two passes over the cell rows, both parallel with rayon:
+//!
+//! 1. classify every cell: which of its two triangles have three valid vertices and a
+//!    well-defined normal (one byte per cell), and count them per row;
+//! 2. after a prefix sum over the row counts (the first mesh triangle of every row), write
+//!    each row's triangles, twins, normals, map entries and (when the points are borrowed)
+//!    vertices into its own disjoint slice of the outputs. Twins come from the neighbouring
+//!    cells' classes and running counts in the rows above and below: no lookups, no hashing.
+//!
+//! Every output element depends only on the input, so the result is identical at any
+//! thread count.
+
+use halfedge_mesh::{HalfEdgeMesh, NO_TWIN, cross_normal};
+use rayon::prelude::*;
+
+use crate::triangle_map::{NO_TRIANGLE, TriangleMap};
+use crate::{OpcError, OrganizedPointCloud, OrganizedPointCloudView, is_valid};
+
+/// Options of right-cut meshing ([`OrganizedPointCloudView::mesh`]).
+///
+/// ```
+/// use opc_mesh::OpcMeshOptions;
+/// let options = OpcMeshOptions::new().with_compute_normals(false).with_parallel(false);
+/// assert!(!options.compute_normals);
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct OpcMeshOptions {
+    /// Compute unit triangle normals in the same pass. Default `true`.
+    pub compute_normals: bool,
+    /// Spread the work over the current rayon thread pool (install a pool of your own to
+    /// choose the thread count); `false` runs on the calling thread only. The result is
+    /// the same either way. Default `true`.
+    pub parallel: bool,
+}
+
+impl Default for OpcMeshOptions {
+    fn default() -> Self {
+        Self {
+            compute_normals: true,
+            parallel: true,
+        }
+    }
+}
+
+impl OpcMeshOptions {
+    /// The defaults: normals computed, parallel.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Sets whether triangle normals are computed.
+    pub fn with_compute_normals(mut self, compute_normals: bool) -> Self {
+        self.compute_normals = compute_normals;
+        self
+    }
+
+    /// Sets whether the work runs in parallel.
+    pub fn with_parallel(mut self, parallel: bool) -> Self {
+        self.parallel = parallel;
+        self
+    }
+}
+
+/// A meshed organized point cloud: the half-edge mesh and the map from the implicit
+/// right-cut mesh's global triangle ids to its triangles.
+///
+/// The mesh's vertices are all the cloud's points, NaN included, so vertex `r · cols + c`
+/// is pixel `(r, c)`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct OpcMesh {
+    /// The triangles, twins and (if asked for) unit normals.
+    pub mesh: HalfEdgeMesh,
+    /// Cell triangle (GID) → mesh triangle.
+    pub triangle_map: TriangleMap,
+}
+
+impl OrganizedPointCloudView<'_> {
+    /// Meshes the cloud with right-cut triangles (Polylidar3D §4.2, Alg. 1–2).
+    ///
+    /// Every cell, from pixel `(r, c)` to pixel `(r + 1, c + 1)`, is split along that
+    /// diagonal into a [`First`](crate::CellTriangle::First) (upper-right) and a
+    /// [`Second`](crate::CellTriangle::Second) (lower-left) triangle, as in the original.
+    /// A triangle is created where its three points are valid (finite) and its normal is
+    /// well defined (the squared length of the edge cross product is a positive normal
+    /// `f64`: this drops only triangles of repeated or exactly collinear points, such as
+    /// sensors reporting `(0, 0, 0)` for no return). Triangles are numbered in GID order.
+    ///
+    /// **Orientation.** Triangles are `[p(r+1, c+1), p(r, c+1), p(r, c)]` and
+    /// `[p(r, c), p(r+1, c), p(r+1, c+1)]` (the original's order). For a camera frame with
+    /// `x` growing with the column, `y` with the row and `z` forward, as
+    /// [`OrganizedPointCloud::from_depth_image`] builds it, normals point back toward the
+    /// sensor (negative `z` for a surface facing the camera). A cloud whose columns or
+    /// rows run the other way gets normals pointing away.
+    ///
+    /// The points are copied into the mesh's vertex array; see
+    /// [`OrganizedPointCloud::into_mesh`] to move them instead.
+    ///
+    /// # Performance
+    /// O(rows · cols) time and memory, two passes parallel over rows.
+    ///
+    /// # Errors
+    /// [`OpcError::NoTriangles`] if no triangle can be formed (e.g. an all-NaN cloud),
+    /// [`OpcError::TooLarge`] if the half-edges would overflow `u32` indices.
+    pub fn mesh(&self, options: &OpcMeshOptions) -> Result<OpcMesh, OpcError> {
+        let parts = mesh_grid(*self, Vertices::Copy, options)?;
+        Ok(OpcMesh {
+            mesh: HalfEdgeMesh::from_parts_trusted(
+                parts.vertices,
+                parts.triangles,
+                parts.halfedges,
+                parts.normals,
+            ),
+            triangle_map: parts.triangle_map,
+        })
+    }
+}
+
+impl OrganizedPointCloud {
+    /// Meshes a borrowed cloud, copying its points into the mesh; see
+    /// [`OrganizedPointCloudView::mesh`].
+    ///
+    /// # Errors
+    /// As [`OrganizedPointCloudView::mesh`].
+    pub fn mesh(&self, options: &OpcMeshOptions) -> Result<OpcMesh, OpcError> {
+        self.view().mesh(options)
+    }
+
+    /// Meshes the cloud, moving its points into the mesh without copying them; see
+    /// [`OrganizedPointCloudView::mesh`].
+    ///
+    /// ```
+    /// use opc_mesh::{OpcMeshOptions, OrganizedPointCloud};
+    /// let points: Vec<[f64; 3]> = (0..12).map(|i| [(i % 4) as f64, (i / 4) as f64, 1.0]).collect();
+    /// let opc = OrganizedPointCloud::new(3, 4, points)?.into_mesh(&OpcMeshOptions::default())?;
+    /// assert_eq!(opc.mesh.num_triangles(), 2 * 2 * 3);
+    /// assert_eq!(opc.mesh.triangle_normals().map(|n| n[0]), Some([0.0, 0.0, -1.0]));
+    /// # Ok::<(), opc_mesh::OpcError>(())
+    /// ```
+    ///
+    /// # Errors
+    /// As [`OrganizedPointCloudView::mesh`].
+    pub fn into_mesh(self, options: &OpcMeshOptions) -> Result<OpcMesh, OpcError> {
+        let (rows, cols) = (self.rows(), self.cols());
+        let points = self.into_points();
+        let view = OrganizedPointCloudView::from_checked(rows, cols, &points);
+        let parts = mesh_grid(view, Vertices::Move, options)?;
+        Ok(OpcMesh {
+            mesh: HalfEdgeMesh::from_parts_trusted(
+                points,
+                parts.triangles,
+                parts.halfedges,
+                parts.normals,
+            ),
+            triangle_map: parts.triangle_map,
+        })
+    }
+}
+
+/// Whether pass 2 copies the points into a new vertex array.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Vertices {
+    Copy,
+    Move,
+}
+
+/// The mesh arrays and the triangle map, before assembly.
+struct Parts {
+    /// The copied points, or empty when they are moved.
+    vertices: Vec<[f64; 3]>,
+    triangles: Vec<[u32; 3]>,
+    halfedges: Vec<u32>,
+    normals: Vec<[f64; 3]>,
+    triangle_map: TriangleMap,
+}
+
+/// Class bit: the cell's first (upper-right) triangle exists.
+const FIRST: u8 = 1;
+/// Class bit: the cell's second (lower-left) triangle exists.
+const SECOND: u8 = 2;
+
+/// Triangles in a cell of this class (0, 1 or 2).
+#[inline]
+fn count(class: u8) -> u32 {
+    u32::from(class & FIRST) + u32::from(class >> 1)
+}
+
+/// The unnormalised normal of triangle `[a, b, c]` and whether it can be normalised.
+#[inline]
+fn normal_of(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> ([f64; 3], f64) {
+    let n = cross_normal(a, b, c);
+    (n, n[0] * n[0] + n[1] * n[1] + n[2] * n[2])
+}
+
+/// Whether a squared normal length gives a finite unit normal.
+#[inline]
+fn normalisable(len2: f64) -> bool {
+    (f64::MIN_POSITIVE..f64::INFINITY).contains(&len2)
+}
+
+/// The class of cell `(·, v)` between point rows `top` and `bottom`.
+#[inline]
+fn classify(top: &[[f64; 3]], bottom: &[[f64; 3]], v: usize, valid: [bool; 4]) -> u8 {
+    let [v1, v2, v3, v4] = valid;
+    let (p1, p2, p3, p4) = (top[v], top[v + 1], bottom[v + 1], bottom[v]);
+    let mut class = 0;
+    if v1 && v3 {
+        if v2 && normalisable(normal_of(p3, p2, p1).1) {
+            class |= FIRST;
+        }
+        if v4 && normalisable(normal_of(p1, p4, p3).1) {
+            class |= SECOND;
+        }
+    }
+    class
+}
+
+/// Pass 1 for one cell row: classes of its cells, and their triangle count.
+fn classify_row(top: &[[f64; 3]], bottom: &[[f64; 3]], classes: &mut [u8]) -> u32 {
+    let mut total = 0;
+    let (mut left_top, mut left_bottom) = (is_valid(&top[0]), is_valid(&bottom[0]));
+    for (v, class) in classes.iter_mut().enumerate() {
+        let (right_top, right_bottom) = (is_valid(&top[v + 1]), is_valid(&bottom[v + 1]));
+        *class = classify(
+            top,
+            bottom,
+            v,
+            [left_top, right_top, right_bottom, left_bottom],
+        );
+        total += count(*class);
+        (left_top, left_bottom) = (right_top, right_bottom);
+    }
+    total
+}
+
+/// One cell row's share of the outputs, for pass 2.
+struct RowOut<'a> {
+    row: usize,
+    /// Global index of the row's first triangle.
+    first: u32,
+    triangles: &'a mut [[u32; 3]],
+    halfedges: &'a mut [u32],
+    /// Empty unless normals are computed.
+    normals: &'a mut [[f64; 3]],
+    /// The row's `2 · cell_cols` map entries.
+    map: &'a mut [u32],
+    /// The point rows to copy (this row, and the last row too for the last cell row);
+    /// empty when the points are moved.
+    vertices: &'a mut [[f64; 3]],
+}
+
+/// Everything pass 2 reads.
+struct Pass2<'a> {
+    points: &'a [[f64; 3]],
+    cols: usize,
+    cell_rows: usize,
+    classes: &'a [u8],
+    /// First triangle of every cell row, and the total at the end.
+    offsets: &'a [u32],
+}
+
+impl Pass2<'_> {
+    fn classes_of(&self, row: usize) -> &[u8] {
+        let cell_cols = self.cols - 1;
+        &self.classes[row * cell_cols..][..cell_cols]
+    }
+
+    /// A neighbouring cell row's classes and first triangle, or none past the border.
+    fn neighbour(&self, row: Option<usize>) -> (Option<&[u8]>, u32) {
+        match row.filter(|&r| r < self.cell_rows) {
+            Some(r) => (Some(self.classes_of(r)), self.offsets[r]),
+            None => (None, 0),
+        }
+    }
+
+    /// Writes one cell row's triangles, twins, normals, map entries and vertices.
+    fn write_row(&self, out: RowOut<'_>) {
+        let RowOut {
+            row: u,
+            first,
+            triangles,
+            halfedges,
+            normals,
+            map,
+            vertices,
+        } = out;
+        let cols = self.cols;
+        let top = &self.points[u * cols..][..cols];
+        let bottom = &self.points[(u + 1) * cols..][..cols];
+        if !vertices.is_empty() {
+            vertices.copy_from_slice(&self.points[u * cols..][..vertices.len()]);
+        }
+        let classes = self.classes_of(u);
+        let (above, mut next_above) = self.neighbour(u.checked_sub(1));
+        let (below, mut next_below) = self.neighbour(Some(u + 1));
+        let with_normals = !normals.is_empty();
+        let row_start = (u * cols) as u32;
+        let mut next = first;
+        let mut left_first = NO_TWIN;
+        let mut local = 0;
+        for (v, (&class, map)) in classes.iter().zip(map.chunks_exact_mut(2)).enumerate() {
+            let class_above = above.map_or(0, |a| a[v]);
+            let class_below = below.map_or(0, |b| b[v]);
+            let class_right = classes.get(v + 1).copied().unwrap_or(0);
+            let after = next + count(class);
+            let p1 = row_start + v as u32;
+            let p4 = p1 + cols as u32;
+            let (p2, p3) = (p1 + 1, p4 + 1);
+            let first_t = next;
+            map[0] = NO_TRIANGLE;
+            map[1] = NO_TRIANGLE;
+            if class & FIRST != 0 {
+                triangles[local] = [p3, p2, p1];
+                let he = &mut halfedges[3 * local..3 * local + 3];
+                // Edge p3 → p2: the second triangle of the cell to the right.
+                he[0] = if class_right & SECOND != 0 {
+                    3 * (after + u32::from(class_right & FIRST))
+                } else {
+                    NO_TWIN
+                };
+                // Edge p2 → p1: the second triangle of the cell above.
+                he[1] = if class_above & SECOND != 0 {
+                    3 * (next_above + u32::from(class_above & FIRST)) + 1
+                } else {
+                    NO_TWIN
+                };
+                // Diagonal p1 → p3: this cell's second triangle.
+                he[2] = if class & SECOND != 0 {
+                    3 * (first_t + 1) + 2
+                } else {
+                    NO_TWIN
+                };
+                if with_normals {
+                    normals[local] = unit(normal_of(bottom[v + 1], top[v + 1], top[v]));
+                }
+                map[0] = first_t;
+                local += 1;
+            }
+            if class & SECOND != 0 {
+                let second_t = first_t + u32::from(class & FIRST);
+                triangles[local] = [p1, p4, p3];
+                let he = &mut halfedges[3 * local..3 * local + 3];
+                // Edge p1 → p4: the first triangle of the cell to the left.
+                he[0] = left_first;
+                // Edge p4 → p3: the first triangle of the cell below.
+                he[1] = if class_below & FIRST != 0 {
+                    3 * next_below + 1
+                } else {
+                    NO_TWIN
+                };
+                // Diagonal p3 → p1: this cell's first triangle.
+                he[2] = if class & FIRST != 0 {
+                    3 * first_t + 2
+                } else {
+                    NO_TWIN
+                };
+                if with_normals {
+                    normals[local] = unit(normal_of(top[v], bottom[v], bottom[v + 1]));
+                }
+                map[1] = second_t;
+                local += 1;
+            }
+            left_first = if class & FIRST != 0 {
+                3 * first_t
+            } else {
+                NO_TWIN
+            };
+            next = after;
+            next_above += count(class_above);
+            next_below += count(class_below);
+        }
+        debug_assert_eq!(local, triangles.len());
+    }
+}
+
+/// The unit normal of a normalisable cross product.
+#[inline]
+fn unit((n, len2): ([f64; 3], f64)) -> [f64; 3] {
+    let inv = 1.0 / len2.sqrt();
+    [n[0] * inv, n[1] * inv, n[2] * inv]
+}
+
+/// Checks that the half-edges of a `rows × cols` grid fit `u32` indices below [`NO_TWIN`].
+fn check_mesh_size(rows: usize, cols: usize) -> Result<(), OpcError> {
+    let halfedges = (rows - 1)
+        .checked_mul(cols - 1)
+        .and_then(|cells| cells.checked_mul(6));
+    match halfedges {
+        Some(h) if h <= NO_TWIN as usize => Ok(()),
+        _ => Err(OpcError::TooLarge { rows, cols }),
+    }
+}
+
+/// Meshes a cloud: pass 1, prefix sum, pass 2.
+fn mesh_grid(
+    view: OrganizedPointCloudView<'_>,
+    vertices: Vertices,
+    options: &OpcMeshOptions,
+) -> Result<Parts, OpcError> {
+    let (rows, cols) = (view.rows(), view.cols());
+    check_mesh_size(rows, cols)?;
+    let points = view.points();
+    let (cell_rows, cell_cols) = (rows - 1, cols - 1);
+
+    let mut classes = vec![0u8; cell_rows * cell_cols];
+    let classify = |(u, classes): (usize, &mut [u8])| {
+        classify_row(
+            &points[u * cols..][..cols],
+            &points[(u + 1) * cols..][..cols],
+            classes,
+        )
+    };
+    let counts: Vec<u32> = if options.parallel {
+        classes
+            .par_chunks_mut(cell_cols)
+            .enumerate()
+            .map(classify)
+            .collect()
+    } else {
+        classes
+            .chunks_mut(cell_cols)
+            .enumerate()
+            .map(classify)
+            .collect()
+    };
+    let mut offsets = Vec::with_capacity(cell_rows + 1);
+    let mut total = 0u32;
+    offsets.push(total);
+    for &n in &counts {
+        total += n;
+        offsets.push(total);
+    }
+    if total == 0 {
+        return Err(OpcError::NoTriangles {
+            valid_points: view.num_valid(),
+            points: points.len(),
+        });
+    }
+
+    let num_triangles = total as usize;
+    let mut triangles = vec![[0u32; 3]; num_triangles];
+    let mut halfedges = vec![0u32; 3 * num_triangles];
+    let mut normals = if options.compute_normals {
+        vec![[0.0; 3]; num_triangles]
+    } else {
+        Vec::new()
+    };
+    let mut map = vec![0u32; 2 * cell_rows * cell_cols];
+    let mut copied = match vertices {
+        Vertices::Copy => vec![[0.0; 3]; rows * cols],
+        Vertices::Move => Vec::new(),
+    };
+
+    let mut jobs = Vec::with_capacity(cell_rows);
+    let (mut t_rest, mut h_rest) = (triangles.as_mut_slice(), halfedges.as_mut_slice());
+    let (mut n_rest, mut m_rest) = (normals.as_mut_slice(), map.as_mut_slice());
+    let mut v_rest = copied.as_mut_slice();
+    for (u, &n) in counts.iter().enumerate() {
+        let n = n as usize;
+        let n_normals = if options.compute_normals { n } else { 0 };
+        let n_vertices = match (vertices, u + 1 == cell_rows) {
+            (Vertices::Move, _) => 0,
+            (Vertices::Copy, false) => cols,
+            (Vertices::Copy, true) => 2 * cols,
+        };
+        let triangles;
+        let halfedges;
+        let normals;
+        let map;
+        let vertices;
+        (triangles, t_rest) = std::mem::take(&mut t_rest).split_at_mut(n);
+        (halfedges, h_rest) = std::mem::take(&mut h_rest).split_at_mut(3 * n);
+        (normals, n_rest) = std::mem::take(&mut n_rest).split_at_mut(n_normals);
+        (map, m_rest) = std::mem::take(&mut m_rest).split_at_mut(2 * cell_cols);
+        (vertices, v_rest) = std::mem::take(&mut v_rest).split_at_mut(n_vertices);
+        jobs.push(RowOut {
+            row: u,
+            first: offsets[u],
+            triangles,
+            halfedges,
+            normals,
+            map,
+            vertices,
+        });
+    }
+
+    let pass2 = Pass2 {
+        points,
+        cols,
+        cell_rows,
+        classes: &classes,
+        offsets: &offsets,
+    };
+    if options.parallel {
+        jobs.into_par_iter().for_each(|job| pass2.write_row(job));
+    } else {
+        jobs.into_iter().for_each(|job| pass2.write_row(job));
+    }
+
+    Ok(Parts {
+        vertices: copied,
+        triangles,
+        halfedges,
+        normals,
+        triangle_map: TriangleMap::from_vec(cell_rows, cell_cols, map),
+    })
+}
