@@ -506,3 +506,37 @@ fn mesh_grid(
         triangle_map: TriangleMap::from_vec(cell_rows, cell_cols, map),
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn mesh_size_limit() {
+        // 6 (rows − 1)(cols − 1) half-edges must stay at or below u32::MAX.
+        assert_eq!(check_mesh_size(2, 715_827_883), Ok(()));
+        assert_eq!(
+            check_mesh_size(2, 715_827_884),
+            Err(OpcError::TooLarge {
+                rows: 2,
+                cols: 715_827_884
+            })
+        );
+        assert_eq!(check_mesh_size(20_000, 30_000), Ok(()));
+        assert!(check_mesh_size(40_000, 40_000).is_err());
+        assert!(check_mesh_size(usize::MAX, usize::MAX).is_err());
+    }
+
+    #[test]
+    fn classes_and_counts() {
+        let p = |x: f64, y: f64| [x, y, 1.0];
+        let nan = [f64::NAN; 3];
+        let top = [p(0.0, 0.0), p(1.0, 0.0), nan, p(3.0, 0.0)];
+        let bottom = [p(0.0, 1.0), p(1.0, 1.0), p(2.0, 1.0), p(3.0, 1.0)];
+        let mut classes = [0u8; 3];
+        assert_eq!(classify_row(&top, &bottom, &mut classes), 3);
+        // Cell 1: top-right pixel invalid, so only the second triangle; cell 2: top-left
+        // invalid, so neither.
+        assert_eq!(classes, [FIRST | SECOND, SECOND, 0]);
+    }
+}
