@@ -1,1 +1,79 @@
-//! Work in progress: see the crate README once it lands.
+//! Readers and writers for every input of polylidar-rs, returning plain data.
+//!
+//! | format | read | write |
+//! | --- | --- | --- |
+//! | PCD v0.7 (v0.6 headers tolerated): `ascii`, `binary`, `binary_compressed` (LZF) | [`read_pcd`], [`read_pcd_fields`] | [`write_pcd`], [`write_pcd_with_options`] |
+//! | NumPy `.npy` v1–v3, bool/int/float dtypes of either byte order, C or Fortran order | [`read_npy`] | [`write_npy_f64`], [`write_npy_f32`], [`write_npy_i32`] |
+//! | 16-bit greyscale depth PNG + RealSense `_metadata.csv` | [`read_depth_png`], [`read_realsense_intrinsics`], [`metadata_path_for`] | [`write_depth_png`] |
+//! | text tables of 2D/3D points | [`read_csv_points`] | — |
+//! | PLY ascii / binary (both byte orders) | [`read_ply`] | [`write_ply`] (binary little-endian) |
+//! | Wavefront OBJ (`v`, `f`) | [`read_obj`] | — |
+//! | LAS / LAZ (via the `las` crate) | [`read_las`] | — |
+//!
+//! [`read_input`] picks the reader by extension and returns an [`InputKind`]. Every reader
+//! has a `parse_*` twin working on bytes in memory. Organized clouds keep their grid
+//! ([`PointCloud`] with `rows > 1`, NaN marking invalid pixels).
+//!
+//! Errors ([`IoError`]) name the file, the format and the problem (the header line, the data
+//! line, the byte offset of truncated data, the face with a bad index). No input makes a
+//! reader panic: every parser is fed random and corrupted bytes by the property tests, and
+//! sizes claimed by headers are checked against the data before anything is allocated.
+//!
+//! This crate has no feature flags.
+//!
+//! ```
+//! use polylidar_io::{PcdEncoding, PointCloud, encode_pcd, parse_pcd, PcdWriteOptions};
+//!
+//! let cloud = PointCloud::organized(2, 2, vec![
+//!     [0.0, 0.0, 1.0], [1.0, 0.0, 1.0],
+//!     [0.0, 1.0, 1.0], [f64::NAN, f64::NAN, f64::NAN],
+//! ])?;
+//! let bytes = encode_pcd(&cloud, &PcdWriteOptions::new(PcdEncoding::BinaryCompressed))?;
+//! let back = parse_pcd(&bytes)?;
+//! assert_eq!((back.rows, back.cols), (2, 2));
+//! assert_eq!(back.valid_count(), 3);
+//! assert_eq!(back.points[1], [1.0, 0.0, 1.0]);
+//! # Ok::<(), polylidar_io::IoError>(())
+//! ```
+
+#![forbid(unsafe_code)]
+#![deny(rustdoc::broken_intra_doc_links)]
+
+mod auto;
+mod cloud;
+mod csv;
+mod depth;
+mod error;
+mod lidar;
+pub mod lzf;
+mod npy;
+mod obj;
+mod pcd;
+mod ply;
+
+pub use auto::{InputKind, format_of, read_input};
+pub use cloud::{LasCloud, MeshData, MeshStats, PointCloud, PointTable};
+pub use csv::{parse_csv_points, read_csv_points};
+pub use depth::{
+    CameraIntrinsics, DepthImage, encode_depth_png, metadata_path_for, parse_depth_png,
+    parse_realsense_intrinsics, read_depth_png, read_realsense_intrinsics, write_depth_png,
+};
+pub use error::{ErrorKind, Format, IoError};
+pub use lidar::{parse_las, read_las};
+pub use npy::{
+    Dtype, NpyArray, encode_npy_f32, encode_npy_f64, encode_npy_i32, parse_npy, read_npy,
+    write_npy_f32, write_npy_f64, write_npy_i32,
+};
+pub use obj::{parse_obj, parse_obj_with_stats, read_obj, read_obj_with_stats};
+pub use pcd::{
+    PcdColumns, PcdEncoding, PcdField, PcdHeader, PcdScalar, PcdWriteOptions, ScalarType,
+    encode_pcd, parse_pcd, parse_pcd_fields, parse_pcd_header, read_pcd, read_pcd_fields,
+    write_pcd, write_pcd_with_options,
+};
+pub use ply::{
+    encode_ply, parse_ply, parse_ply_with_stats, read_ply, read_ply_with_stats, write_ply,
+};
+
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+struct ReadmeDoctests;

@@ -1,0 +1,62 @@
+//! ASPRS LAS and LAZ (compressed) airborne LiDAR files, through the `las` crate.
+
+use std::io::{BufReader, Cursor, Read, Seek};
+use std::path::Path;
+
+use crate::cloud::LasCloud;
+use crate::error::{ErrorKind, Format, IoError, KindResult};
+
+/// Points decoded per batch: bounds memory use by what the file really holds, whatever
+/// its header claims.
+const BATCH: u64 = 65_536;
+
+/// Reads a LAS or LAZ file: coordinates (scale and offset applied) and classification.
+///
+/// # Errors
+/// An [`IoError`] naming the file and the decoder's message (bad signature, unsupported
+/// version or point format, truncated or corrupt point data).
+pub fn read_las(path: impl AsRef<Path>) -> Result<LasCloud, IoError> {
+    let path = path.as_ref();
+    let file = std::fs::File::open(path)
+        .map_err(|e| IoError::new(Format::Las, ErrorKind::Os(e)).at(path))?;
+    decode(BufReader::new(file)).map_err(|k| IoError::new(Format::Las, k).at(path))
+}
+
+/// Parses LAS or LAZ bytes; see [`read_las`].
+///
+/// # Errors
+/// As [`read_las`], with no file name.
+pub fn parse_las(bytes: &[u8]) -> Result<LasCloud, IoError> {
+    decode(Cursor::new(bytes.to_vec())).map_err(|k| IoError::new(Format::Las, k))
+}
+
+fn decode<R: Read + Seek + Send + Sync + 'static>(read: R) -> KindResult<LasCloud> {
+    let las_err = |e: las::Error| ErrorKind::Decoder(e.to_string());
+    let mut reader = las::Reader::new(read).map_err(las_err)?;
+    let total = reader.header().number_of_points();
+    let mut cloud = LasCloud::default();
+    let mut batch = las::PointDataBuilder::new()
+        .for_header(reader.header())
+        .build();
+    let mut done = 0u64;
+    while done < total {
+        let n = reader
+            .fill_points(BATCH.min(total - done), &mut batch)
+            .map_err(las_err)?;
+        if n == 0 {
+            return Err(ErrorKind::Shape(format!(
+                "header declares {total} points, the data ends after {done}"
+            )));
+        }
+        cloud.points.extend(
+            batch
+                .x()
+                .zip(batch.y())
+                .zip(batch.z())
+                .map(|((x, y), z)| [x, y, z]),
+        );
+        cloud.classification.extend(batch.classification());
+        done += n;
+    }
+    Ok(cloud)
+}
