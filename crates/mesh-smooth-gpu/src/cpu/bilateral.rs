@@ -1,0 +1,285 @@
+//! The bilateral normal filter on the implicit right-cut mesh, `f32` planes per triangle
+//! type, one cell row per task.
+
+use opc_mesh::OrganizedPointCloud;
+use rayon::prelude::*;
+
+use super::{Planes, exp_neg, min_rows_per_task};
+use crate::{BilateralOptions, SlotNormals, grid::TRIANGLES_PER_CELL};
+
+/// xyz planes.
+type Xyz = [Vec<f32>; 3];
+
+/// Normals, centroids and masks of the triangles of one type `k` (see [`crate::grid`]),
+/// indexed by cell `r · (cols − 1) + c`. Missing triangles hold zeros and mask 0.0.
+#[derive(Clone)]
+struct TypePlanes {
+    normal: Xyz,
+    centroid: Xyz,
+    mask: Vec<f32>,
+}
+
+/// Computes normals and centroids, filters the normals and returns them per slot.
+/// Options are validated.
+pub(crate) fn bilateral(
+    cloud: &OrganizedPointCloud,
+    options: &BilateralOptions,
+    parallel: bool,
+) -> SlotNormals {
+    let (rows, cols) = (cloud.rows(), cloud.cols());
+    let planes = Planes::from_points(cloud.points(), cols, parallel);
+    let types = [0, 1].map(|k| TypePlanes::compute(&planes, rows, cols, k, parallel));
+    let cells = Cells {
+        rows: rows - 1,
+        cols: cols - 1,
+        half: (options.kernel / 2) as usize,
+    };
+    let mut current = [types[0].normal.clone(), types[1].normal.clone()];
+    if cells.rows > 2 * cells.half && cells.cols > 2 * cells.half && options.iterations > 0 {
+        let (inv_var_length, inv_var_angle) = options.inverse_variances();
+        let filter = Filter {
+            cells,
+            inv_var_length,
+            inv_var_angle,
+        };
+        let mut next = current.clone();
+        for _ in 0..options.iterations {
+            let [[n0x, n0y, n0z], [n1x, n1y, n1z]] = &mut next;
+            let cc = cells.cols;
+            (
+                n0x.par_chunks_mut(cc),
+                n0y.par_chunks_mut(cc),
+                n0z.par_chunks_mut(cc),
+                n1x.par_chunks_mut(cc),
+                n1y.par_chunks_mut(cc),
+                n1z.par_chunks_mut(cc),
+            )
+                .into_par_iter()
+                .enumerate()
+                .with_min_len(min_rows_per_task(parallel))
+                .for_each(|(r, (a, b, c, d, e, f))| {
+                    filter.row(r, &current, &types, [[a, b, c], [d, e, f]]);
+                });
+            std::mem::swap(&mut current, &mut next);
+        }
+    }
+    let num_cells = cells.rows * cells.cols;
+    let mut normals = vec![[f32::NAN; 3]; TRIANGLES_PER_CELL * num_cells];
+    normals
+        .par_chunks_mut(TRIANGLES_PER_CELL * cells.cols)
+        .enumerate()
+        .with_min_len(min_rows_per_task(parallel))
+        .for_each(|(r, out)| {
+            for (j, pair) in out.chunks_exact_mut(TRIANGLES_PER_CELL).enumerate() {
+                let cell = r * cells.cols + j;
+                for (k, slot) in pair.iter_mut().enumerate() {
+                    if types[k].mask[cell] > 0.0 {
+                        let [x, y, z] = &current[k];
+                        *slot = [x[cell], y[cell], z[cell]];
+                    }
+                }
+            }
+        });
+    SlotNormals::new(rows, cols, normals)
+}
+
+impl TypePlanes {
+    /// Normals and centroids of the type-`k` triangles of every cell.
+    fn compute(planes: &Planes, rows: usize, cols: usize, k: usize, parallel: bool) -> Self {
+        let (cr, cc) = (rows - 1, cols - 1);
+        let zeros = vec![0.0f32; cr * cc];
+        let mut out = Self {
+            normal: [zeros.clone(), zeros.clone(), zeros.clone()],
+            centroid: [zeros.clone(), zeros.clone(), zeros.clone()],
+            mask: zeros,
+        };
+        let [nx, ny, nz] = &mut out.normal;
+        let [cx, cy, cz] = &mut out.centroid;
+        (
+            nx.par_chunks_mut(cc),
+            ny.par_chunks_mut(cc),
+            nz.par_chunks_mut(cc),
+            cx.par_chunks_mut(cc),
+            cy.par_chunks_mut(cc),
+            cz.par_chunks_mut(cc),
+            out.mask.par_chunks_mut(cc),
+        )
+            .into_par_iter()
+            .enumerate()
+            .with_min_len(min_rows_per_task(parallel))
+            .for_each(|(r, (nx, ny, nz, cx, cy, cz, m))| {
+                let top = r * cols;
+                let bottom = top + cols;
+                let corner = |plane, start| span(plane, start, cc);
+                // p1 = (r, c), p2 = (r, c + 1), p3 = (r + 1, c + 1), p4 = (r + 1, c);
+                // type 0 is [p3, p2, p1], type 1 is [p1, p4, p3].
+                let (a, b, c) = if k == 0 {
+                    (bottom + 1, top + 1, top)
+                } else {
+                    (top, bottom, bottom + 1)
+                };
+                let (ax, ay, az, am) = (
+                    corner(&planes.x, a),
+                    corner(&planes.y, a),
+                    corner(&planes.z, a),
+                    corner(&planes.m, a),
+                );
+                let (bx, by, bz, bm) = (
+                    corner(&planes.x, b),
+                    corner(&planes.y, b),
+                    corner(&planes.z, b),
+                    corner(&planes.m, b),
+                );
+                let (qx, qy, qz, qm) = (
+                    corner(&planes.x, c),
+                    corner(&planes.y, c),
+                    corner(&planes.z, c),
+                    corner(&planes.m, c),
+                );
+                for i in 0..cc {
+                    let valid = am[i] * bm[i] * qm[i] > 0.0;
+                    let (ux, uy, uz) = (bx[i] - ax[i], by[i] - ay[i], bz[i] - az[i]);
+                    let (vx, vy, vz) = (qx[i] - ax[i], qy[i] - ay[i], qz[i] - az[i]);
+                    let px = uy * vz - uz * vy;
+                    let py = uz * vx - ux * vz;
+                    let pz = ux * vy - uy * vx;
+                    let len = (px * px + py * py + pz * pz).sqrt();
+                    let unit = valid && len > 0.0;
+                    nx[i] = if unit { px / len } else { 0.0 };
+                    ny[i] = if unit { py / len } else { 0.0 };
+                    nz[i] = if unit { pz / len } else { 0.0 };
+                    cx[i] = if valid {
+                        (ax[i] + bx[i] + qx[i]) / 3.0
+                    } else {
+                        0.0
+                    };
+                    cy[i] = if valid {
+                        (ay[i] + by[i] + qy[i]) / 3.0
+                    } else {
+                        0.0
+                    };
+                    cz[i] = if valid {
+                        (az[i] + bz[i] + qz[i]) / 3.0
+                    } else {
+                        0.0
+                    };
+                    m[i] = if valid { 1.0 } else { 0.0 };
+                }
+            });
+        out
+    }
+}
+
+/// The cell grid and the kernel half-width.
+#[derive(Clone, Copy)]
+struct Cells {
+    rows: usize,
+    cols: usize,
+    half: usize,
+}
+
+struct Filter {
+    cells: Cells,
+    inv_var_length: f32,
+    inv_var_angle: f32,
+}
+
+impl Filter {
+    /// Writes cell row `r` of the next pass (both triangle types) into `out`.
+    fn row(
+        &self,
+        r: usize,
+        normals: &[Xyz; 2],
+        types: &[TypePlanes; 2],
+        mut out: [[&mut [f32]; 3]; 2],
+    ) {
+        let Cells { rows, cols, half } = self.cells;
+        let base = r * cols;
+        let border_row = r < half || r + half >= rows;
+        let len = cols - 2 * half;
+        for (ko, planes) in out.iter_mut().enumerate() {
+            for (o, n) in planes.iter_mut().zip(&normals[ko]) {
+                if border_row {
+                    o.copy_from_slice(&n[base..base + cols]);
+                } else {
+                    o[..half].copy_from_slice(&n[base..base + half]);
+                    o[half + len..].copy_from_slice(&n[base + half + len..base + cols]);
+                }
+            }
+        }
+        if border_row {
+            return;
+        }
+        let own = base + half;
+        for (ko, [ax, ay, az]) in out_interior(out, half, len).into_iter().enumerate() {
+            let [nx, ny, nz] = &normals[ko];
+            let [cx, cy, cz] = &types[ko].centroid;
+            let (nx, ny, nz) = (
+                &nx[own..own + len],
+                &ny[own..own + len],
+                &nz[own..own + len],
+            );
+            let (cx, cy, cz) = (
+                &cx[own..own + len],
+                &cy[own..own + len],
+                &cz[own..own + len],
+            );
+            let om = &types[ko].mask[own..own + len];
+            ax.fill(0.0);
+            ay.fill(0.0);
+            az.fill(0.0);
+            let k = 2 * half + 1;
+            for dr in 0..k {
+                for dc in 0..k {
+                    if dr == half && dc == half {
+                        continue;
+                    }
+                    let start = (r + dr - half) * cols + dc;
+                    for kn in 0..TRIANGLES_PER_CELL {
+                        let [qnx, qny, qnz] = &normals[kn];
+                        let [qcx, qcy, qcz] = &types[kn].centroid;
+                        let qnx = &qnx[start..start + len];
+                        let qny = &qny[start..start + len];
+                        let qnz = &qnz[start..start + len];
+                        let qcx = &qcx[start..start + len];
+                        let qcy = &qcy[start..start + len];
+                        let qcz = &qcz[start..start + len];
+                        let qm = &types[kn].mask[start..start + len];
+                        for i in 0..len {
+                            let (ex, ey, ez) = (cx[i] - qcx[i], cy[i] - qcy[i], cz[i] - qcz[i]);
+                            let (fx, fy, fz) = (nx[i] - qnx[i], ny[i] - qny[i], nz[i] - qnz[i]);
+                            let e = (ex * ex + ey * ey + ez * ez) * self.inv_var_length
+                                + (fx * fx + fy * fy + fz * fz) * self.inv_var_angle;
+                            let w = qm[i] * exp_neg(e);
+                            ax[i] += w * qnx[i];
+                            ay[i] += w * qny[i];
+                            az[i] += w * qnz[i];
+                        }
+                    }
+                }
+            }
+            for i in 0..len {
+                let s = (ax[i] * ax[i] + ay[i] * ay[i] + az[i] * az[i]).sqrt();
+                let (x, y, z) = if om[i] > 0.0 && s > 0.0 {
+                    (ax[i] / s, ay[i] / s, az[i] / s)
+                } else {
+                    (nx[i], ny[i], nz[i])
+                };
+                ax[i] = x;
+                ay[i] = y;
+                az[i] = z;
+            }
+        }
+    }
+}
+
+/// The interior columns `[half, half + len)` of each output row.
+fn out_interior(out: [[&mut [f32]; 3]; 2], half: usize, len: usize) -> [[&mut [f32]; 3]; 2] {
+    out.map(|planes| planes.map(|o| &mut o[half..half + len]))
+}
+
+/// `plane[start..start + len]`.
+#[inline]
+fn span(plane: &[f32], start: usize, len: usize) -> &[f32] {
+    &plane[start..start + len]
+}

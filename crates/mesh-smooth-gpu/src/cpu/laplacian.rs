@@ -1,0 +1,156 @@
+//! The Laplacian vertex filter on `f32` planes, one image row per task.
+
+use opc_mesh::OrganizedPointCloud;
+use rayon::prelude::*;
+
+use super::{Planes, min_rows_per_task};
+use crate::LaplacianOptions;
+
+/// Filters `cloud` on the CPU (`parallel`: over the rayon pool). Options are validated.
+pub(crate) fn laplacian(
+    cloud: &OrganizedPointCloud,
+    options: &LaplacianOptions,
+    parallel: bool,
+) -> OrganizedPointCloud {
+    let (rows, cols) = (cloud.rows(), cloud.cols());
+    let half = (options.kernel / 2) as usize;
+    if options.iterations == 0 || rows <= 2 * half || cols <= 2 * half {
+        return cloud.clone();
+    }
+    let Planes { x, y, z, m } = Planes::from_points(cloud.points(), cols, parallel);
+    let mut current = [x, y, z];
+    let mut next = current.clone();
+    // Σ w of the last pass; > 0 exactly where a pixel was filtered.
+    let mut weight_sums = vec![0.0f32; m.len()];
+    let grid = Grid {
+        rows,
+        cols,
+        half,
+        lambda: options.lambda,
+        epsilon: options.epsilon,
+    };
+    for _ in 0..options.iterations {
+        let [cx, cy, cz] = &current;
+        let source = Source {
+            x: cx,
+            y: cy,
+            z: cz,
+            m: &m,
+        };
+        let [nx, ny, nz] = &mut next;
+        (
+            nx.par_chunks_mut(cols),
+            ny.par_chunks_mut(cols),
+            nz.par_chunks_mut(cols),
+            weight_sums.par_chunks_mut(cols),
+        )
+            .into_par_iter()
+            .enumerate()
+            .with_min_len(min_rows_per_task(parallel))
+            .for_each(|(r, (ox, oy, oz, ow))| grid.row(r, &source, [ox, oy, oz], ow));
+        std::mem::swap(&mut current, &mut next);
+    }
+    let [x, y, z] = &current;
+    let mut out = cloud.clone();
+    for (i, p) in out.points_mut().iter_mut().enumerate() {
+        if weight_sums[i] > 0.0 {
+            *p = [f64::from(x[i]), f64::from(y[i]), f64::from(z[i])];
+        }
+    }
+    out
+}
+
+/// The previous pass's planes.
+struct Source<'a> {
+    x: &'a [f32],
+    y: &'a [f32],
+    z: &'a [f32],
+    m: &'a [f32],
+}
+
+struct Grid {
+    rows: usize,
+    cols: usize,
+    half: usize,
+    lambda: f32,
+    epsilon: f32,
+}
+
+impl Grid {
+    /// Writes row `r` of the next pass into `out` and its weight sums into `sums`.
+    fn row(&self, r: usize, src: &Source<'_>, out: [&mut [f32]; 3], sums: &mut [f32]) {
+        let Self {
+            rows,
+            cols,
+            half,
+            lambda,
+            epsilon,
+        } = *self;
+        let base = r * cols;
+        let [ox, oy, oz] = out;
+        if r < half || r + half >= rows {
+            ox.copy_from_slice(&src.x[base..base + cols]);
+            oy.copy_from_slice(&src.y[base..base + cols]);
+            oz.copy_from_slice(&src.z[base..base + cols]);
+            sums.fill(0.0);
+            return;
+        }
+        let len = cols - 2 * half;
+        for (o, s) in [(&mut *ox, src.x), (&mut *oy, src.y), (&mut *oz, src.z)] {
+            o[..half].copy_from_slice(&s[base..base + half]);
+            o[half + len..].copy_from_slice(&s[base + half + len..base + cols]);
+        }
+        sums[..half].fill(0.0);
+        sums[half + len..].fill(0.0);
+
+        let own = base + half;
+        let vx = &src.x[own..own + len];
+        let vy = &src.y[own..own + len];
+        let vz = &src.z[own..own + len];
+        let vm = &src.m[own..own + len];
+        let ax = &mut ox[half..half + len];
+        let ay = &mut oy[half..half + len];
+        let az = &mut oz[half..half + len];
+        let aw = &mut sums[half..half + len];
+        ax.fill(0.0);
+        ay.fill(0.0);
+        az.fill(0.0);
+        aw.fill(0.0);
+        let k = 2 * half + 1;
+        for dr in 0..k {
+            for dc in 0..k {
+                if dr == half && dc == half {
+                    continue;
+                }
+                let start = (r + dr - half) * cols + dc;
+                let qx = &src.x[start..start + len];
+                let qy = &src.y[start..start + len];
+                let qz = &src.z[start..start + len];
+                let qm = &src.m[start..start + len];
+                for i in 0..len {
+                    let dx = vx[i] - qx[i];
+                    let dy = vy[i] - qy[i];
+                    let dz = vz[i] - qz[i];
+                    let d = (dx * dx + dy * dy + dz * dz).sqrt();
+                    let w = qm[i] / (d + epsilon);
+                    aw[i] += w;
+                    ax[i] += w * qx[i];
+                    ay[i] += w * qy[i];
+                    az[i] += w * qz[i];
+                }
+            }
+        }
+        for i in 0..len {
+            if vm[i] > 0.0 && aw[i] > 0.0 {
+                ax[i] = vx[i] + lambda * (ax[i] / aw[i] - vx[i]);
+                ay[i] = vy[i] + lambda * (ay[i] / aw[i] - vy[i]);
+                az[i] = vz[i] + lambda * (az[i] / aw[i] - vz[i]);
+            } else {
+                ax[i] = vx[i];
+                ay[i] = vy[i];
+                az[i] = vz[i];
+                aw[i] = 0.0;
+            }
+        }
+    }
+}

@@ -1,0 +1,84 @@
+//! The entry points of the organized-cloud filters, dispatching on [`Backend`].
+
+use opc_mesh::OrganizedPointCloud;
+
+use crate::{Backend, BilateralOptions, LaplacianOptions, SlotNormals, SmoothError, cpu};
+
+/// Laplacian vertex filter (Polylidar3D Eq. 1–2) on an organized cloud; returns the
+/// smoothed cloud.
+///
+/// Computed in `f32` like the original implementation: filtered points carry `f32`
+/// precision. Points that are not filtered — invalid (NaN) ones, those within
+/// `kernel / 2` of the image edge, and valid ones without a valid neighbour — are returned
+/// bit for bit unchanged.
+///
+/// # Errors
+/// Invalid options ([`LaplacianOptions::validate`]); with [`Backend::Gpu`], the errors of
+/// [`GpuSmoother::new`](crate::GpuSmoother::new) and
+/// [`GpuSmoother::laplacian`](crate::GpuSmoother::laplacian), or
+/// [`SmoothError::GpuFeatureDisabled`] without the `gpu` feature.
+pub fn laplacian_filter(
+    cloud: &OrganizedPointCloud,
+    options: &LaplacianOptions,
+) -> Result<OrganizedPointCloud, SmoothError> {
+    options.validate()?;
+    match options.backend {
+        Backend::Cpu => Ok(cpu::laplacian(cloud, options, false)),
+        Backend::CpuParallel => Ok(cpu::laplacian(cloud, options, true)),
+        Backend::Gpu => gpu_laplacian(cloud, options),
+    }
+}
+
+/// Bilateral normal filter (Polylidar3D Eq. 3–5) on the implicit right-cut mesh of an
+/// organized cloud: computes every triangle's normal and centroid (in `f32`), filters the
+/// normals and returns them per slot (see [`crate::grid`] for the slot convention and how
+/// to hand them to a `HalfEdgeMesh`).
+///
+/// A present triangle without any contributing neighbour, and every triangle of a cell
+/// within `kernel / 2` of the cell grid's edge, keeps its unfiltered normal.
+///
+/// # Errors
+/// As [`laplacian_filter`], for [`BilateralOptions`].
+pub fn bilateral_filter(
+    cloud: &OrganizedPointCloud,
+    options: &BilateralOptions,
+) -> Result<SlotNormals, SmoothError> {
+    options.validate()?;
+    match options.backend {
+        Backend::Cpu => Ok(cpu::bilateral(cloud, options, false)),
+        Backend::CpuParallel => Ok(cpu::bilateral(cloud, options, true)),
+        Backend::Gpu => gpu_bilateral(cloud, options),
+    }
+}
+
+#[cfg(feature = "gpu")]
+fn gpu_laplacian(
+    cloud: &OrganizedPointCloud,
+    options: &LaplacianOptions,
+) -> Result<OrganizedPointCloud, SmoothError> {
+    crate::GpuSmoother::new()?.laplacian(cloud, options)
+}
+
+#[cfg(not(feature = "gpu"))]
+fn gpu_laplacian(
+    _cloud: &OrganizedPointCloud,
+    _options: &LaplacianOptions,
+) -> Result<OrganizedPointCloud, SmoothError> {
+    Err(SmoothError::GpuFeatureDisabled)
+}
+
+#[cfg(feature = "gpu")]
+fn gpu_bilateral(
+    cloud: &OrganizedPointCloud,
+    options: &BilateralOptions,
+) -> Result<SlotNormals, SmoothError> {
+    crate::GpuSmoother::new()?.bilateral(cloud, options)
+}
+
+#[cfg(not(feature = "gpu"))]
+fn gpu_bilateral(
+    _cloud: &OrganizedPointCloud,
+    _options: &BilateralOptions,
+) -> Result<SlotNormals, SmoothError> {
+    Err(SmoothError::GpuFeatureDisabled)
+}

@@ -1,0 +1,71 @@
+// Laplacian vertex filter on an organized cloud, one invocation per pixel.
+// Points are vec4: xyz and w = 0 (invalid; xyz = 0), 1 (valid), 2 (valid and filtered by
+// this pass). Mirrors the CPU row kernel operation for operation.
+
+struct Params {
+    rows: u32,
+    cols: u32,
+    half: u32,
+    pad0: u32,
+    lambda: f32,
+    epsilon: f32,
+    pad1: f32,
+    pad2: f32,
+}
+
+@group(0) @binding(0) var<uniform> params: Params;
+@group(0) @binding(1) var<storage, read> src: array<vec4<f32>>;
+@group(0) @binding(2) var<storage, read_write> dst: array<vec4<f32>>;
+
+@compute @workgroup_size(16, 16, 1)
+fn laplacian(@builtin(global_invocation_id) id: vec3<u32>) {
+    let c = id.x;
+    let r = id.y;
+    let rows = params.rows;
+    let cols = params.cols;
+    if (r >= rows || c >= cols) {
+        return;
+    }
+    let i = r * cols + c;
+    let v = src[i];
+    let h = params.half;
+    let valid = min(v.w, 1.0);
+    if (valid == 0.0 || r < h || c < h || r + h >= rows || c + h >= cols) {
+        dst[i] = vec4<f32>(v.xyz, valid);
+        return;
+    }
+    var sx = 0.0;
+    var sy = 0.0;
+    var sz = 0.0;
+    var sw = 0.0;
+    let k = 2u * h + 1u;
+    for (var dr = 0u; dr < k; dr++) {
+        let row_start = (r + dr - h) * cols + c - h;
+        for (var dc = 0u; dc < k; dc++) {
+            if (dr == h && dc == h) {
+                continue;
+            }
+            let q = src[row_start + dc];
+            let dx = v.x - q.x;
+            let dy = v.y - q.y;
+            let dz = v.z - q.z;
+            let d = sqrt(dx * dx + dy * dy + dz * dz);
+            let w = min(q.w, 1.0) / (d + params.epsilon);
+            sw += w;
+            sx += w * q.x;
+            sy += w * q.y;
+            sz += w * q.z;
+        }
+    }
+    if (sw > 0.0) {
+        let lambda = params.lambda;
+        dst[i] = vec4<f32>(
+            v.x + lambda * (sx / sw - v.x),
+            v.y + lambda * (sy / sw - v.y),
+            v.z + lambda * (sz / sw - v.z),
+            2.0,
+        );
+    } else {
+        dst[i] = vec4<f32>(v.xyz, valid);
+    }
+}

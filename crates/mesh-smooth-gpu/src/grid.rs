@@ -1,0 +1,247 @@
+//! The implicit right-cut mesh of an organized cloud. This module is the one place that
+//! fixes the cell and triangle convention; every backend follows it.
+//!
+//! A cloud of `rows × cols` points (point `(r, c)` has index `r · cols + c`) has
+//! `(rows − 1) × (cols − 1)` cells. Cell `(r, c)` has the corners
+//!
+//! ```text
+//!   p1 = (r, c)       p2 = (r, c + 1)
+//!   p4 = (r + 1, c)   p3 = (r + 1, c + 1)
+//! ```
+//!
+//! and is cut along the diagonal p1–p3 into two triangles (Polylidar3D §4.2, Alg. 1):
+//!
+//! * `k = 0`, the first triangle: vertices `[p3, p2, p1]`;
+//! * `k = 1`, the second triangle: vertices `[p1, p4, p3]`.
+//!
+//! Its slot (the paper's global id, GID) is `2 · (r · (cols − 1) + c) + k`. A triangle
+//! exists only when its three points are valid (finite). Normals are
+//! `(b − a) × (c − a)` for the vertex order `[a, b, c]` above, normalised, the same rule as
+//! `halfedge_mesh::cross_normal`; centroids are `(a + b + c) / 3`.
+//!
+//! A mesher that follows Alg. 1 (opc-mesh) appends the existing triangles in slot order, so
+//! mesh triangle `t` is the `t`-th existing slot: [`SlotNormals::compacted`] and
+//! [`SlotNormals::apply_to_mesh`] rely on that; [`SlotNormals::for_triangle_map`] takes an
+//! explicit slot → triangle map instead.
+
+use halfedge_mesh::HalfEdgeMesh;
+
+use crate::SmoothError;
+
+/// Triangles per cell of the implicit mesh.
+pub const TRIANGLES_PER_CELL: usize = 2;
+
+/// The sentinel of a slot → triangle map for a slot without a triangle.
+pub const NO_TRIANGLE: u32 = u32::MAX;
+
+/// The slot (global id) of triangle `k ∈ {0, 1}` of cell `(r, c)` in a cloud with `cols`
+/// columns.
+#[inline]
+pub fn slot(cols: usize, r: usize, c: usize, k: usize) -> usize {
+    TRIANGLES_PER_CELL * (r * (cols - 1) + c) + k
+}
+
+/// Number of slots of the implicit mesh of a `rows × cols` cloud (0 if either is below 2).
+#[inline]
+pub fn num_slots(rows: usize, cols: usize) -> usize {
+    TRIANGLES_PER_CELL * rows.saturating_sub(1) * cols.saturating_sub(1)
+}
+
+/// Point indices `[a, b, c]` of triangle `k ∈ {0, 1}` of cell `(r, c)` in a cloud with
+/// `cols` columns, in the order that defines its normal.
+#[inline]
+pub fn slot_vertices(cols: usize, r: usize, c: usize, k: usize) -> [u32; 3] {
+    let p1 = (r * cols + c) as u32;
+    let p2 = p1 + 1;
+    let p4 = p1 + cols as u32;
+    let p3 = p4 + 1;
+    if k == 0 { [p3, p2, p1] } else { [p1, p4, p3] }
+}
+
+/// Unit triangle normals of the implicit mesh, one per slot, as computed (`f32`) by the
+/// bilateral filter. A missing triangle (a vertex is NaN) has `[NaN; 3]`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SlotNormals {
+    rows: usize,
+    cols: usize,
+    normals: Vec<[f32; 3]>,
+}
+
+impl SlotNormals {
+    pub(crate) fn new(rows: usize, cols: usize, normals: Vec<[f32; 3]>) -> Self {
+        debug_assert_eq!(normals.len(), num_slots(rows, cols));
+        Self {
+            rows,
+            cols,
+            normals,
+        }
+    }
+
+    /// Rows of the cloud the normals belong to.
+    pub fn cloud_rows(&self) -> usize {
+        self.rows
+    }
+
+    /// Columns of the cloud the normals belong to.
+    pub fn cloud_cols(&self) -> usize {
+        self.cols
+    }
+
+    /// One normal per slot, `[NaN; 3]` where the triangle is missing.
+    pub fn as_slice(&self) -> &[[f32; 3]] {
+        &self.normals
+    }
+
+    /// Gives the per-slot normals back.
+    pub fn into_vec(self) -> Vec<[f32; 3]> {
+        self.normals
+    }
+
+    /// The normal in `slot`, or `None` if that triangle is missing or `slot` is out of range.
+    pub fn get(&self, slot: usize) -> Option<[f32; 3]> {
+        self.normals.get(slot).copied().filter(|n| !n[0].is_nan())
+    }
+
+    /// The normal of triangle `k` of cell `(r, c)`, or `None` where it is missing or out of
+    /// range.
+    pub fn at(&self, r: usize, c: usize, k: usize) -> Option<[f32; 3]> {
+        if r + 1 >= self.rows || c + 1 >= self.cols || k >= TRIANGLES_PER_CELL {
+            return None;
+        }
+        self.get(slot(self.cols, r, c, k))
+    }
+
+    /// Number of slots whose triangle exists.
+    pub fn num_present(&self) -> usize {
+        self.normals.iter().filter(|n| !n[0].is_nan()).count()
+    }
+
+    /// The normals of the existing triangles in slot order, renormalised in `f64`: entry `t`
+    /// belongs to triangle `t` of a mesh built from the same cloud by Alg. 1 (opc-mesh).
+    pub fn compacted(&self) -> Vec<[f64; 3]> {
+        self.normals
+            .iter()
+            .filter(|n| !n[0].is_nan())
+            .map(|n| to_unit_f64(*n))
+            .collect()
+    }
+
+    /// Replaces the triangle normals of `mesh`, which must have been built from the same
+    /// cloud by Alg. 1 (existing triangles appended in slot order), with these.
+    ///
+    /// # Errors
+    /// [`SmoothError::TriangleCountMismatch`] if the mesh's triangle count differs from the
+    /// number of existing slots.
+    pub fn apply_to_mesh(&self, mesh: &mut HalfEdgeMesh) -> Result<(), SmoothError> {
+        let normals = self.compacted();
+        if normals.len() != mesh.num_triangles() {
+            return Err(SmoothError::TriangleCountMismatch {
+                present: normals.len(),
+                mesh_triangles: mesh.num_triangles(),
+            });
+        }
+        mesh.set_triangle_normals(normals)
+            .map_err(|_| SmoothError::TriangleCountMismatch {
+                present: self.num_present(),
+                mesh_triangles: mesh.num_triangles(),
+            })
+    }
+
+    /// Normals for `num_triangles` mesh triangles given a slot → triangle map
+    /// (`triangle_map[slot]` is the mesh triangle of that slot or [`NO_TRIANGLE`]).
+    ///
+    /// # Errors
+    /// [`SmoothError::BadTriangleMap`] if the map's length is not the number of slots, an
+    /// entry is out of range, maps a missing slot, or a triangle is mapped twice or never.
+    pub fn for_triangle_map(
+        &self,
+        triangle_map: &[u32],
+        num_triangles: usize,
+    ) -> Result<Vec<[f64; 3]>, SmoothError> {
+        if triangle_map.len() != self.normals.len() {
+            return Err(SmoothError::BadTriangleMap {
+                slot: triangle_map.len().min(self.normals.len()),
+                reason: "the map's length is not the number of slots",
+            });
+        }
+        let mut out = vec![[f64::NAN; 3]; num_triangles];
+        let mut filled = 0usize;
+        for (slot, (&t, n)) in triangle_map.iter().zip(&self.normals).enumerate() {
+            if t == NO_TRIANGLE {
+                continue;
+            }
+            let bad = |reason| Err(SmoothError::BadTriangleMap { slot, reason });
+            let Some(target) = out.get_mut(t as usize) else {
+                return bad("triangle index out of range");
+            };
+            if n[0].is_nan() {
+                return bad("the slot's triangle is missing from the implicit mesh");
+            }
+            if !target[0].is_nan() {
+                return bad("triangle mapped from two slots");
+            }
+            *target = to_unit_f64(*n);
+            filled += 1;
+        }
+        if filled != num_triangles {
+            return Err(SmoothError::BadTriangleMap {
+                slot: triangle_map.len(),
+                reason: "some mesh triangles have no slot",
+            });
+        }
+        Ok(out)
+    }
+}
+
+/// Widens a unit `f32` normal and renormalises it in `f64` (zero stays zero).
+fn to_unit_f64(n: [f32; 3]) -> [f64; 3] {
+    let v = n.map(f64::from);
+    let len = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+    if len > 0.0 { v.map(|x| x / len) } else { v }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn slots_follow_the_paper_gid() {
+        // 7 × 7 cloud (Fig. 5): GID = 2 (u (N − 1) + v) + k.
+        assert_eq!(slot(7, 0, 0, 0), 0);
+        assert_eq!(slot(7, 0, 0, 1), 1);
+        assert_eq!(slot(7, 1, 2, 1), 2 * (6 + 2) + 1);
+        assert_eq!(num_slots(7, 7), 72);
+        assert_eq!(num_slots(1, 7), 0);
+    }
+
+    #[test]
+    fn triangles_share_the_p1_p3_diagonal() {
+        let [a0, b0, c0] = slot_vertices(4, 1, 2, 0);
+        let [a1, b1, c1] = slot_vertices(4, 1, 2, 1);
+        assert_eq!([a0, b0, c0], [11, 7, 6]);
+        assert_eq!([a1, b1, c1], [6, 10, 11]);
+    }
+
+    #[test]
+    fn triangle_map_is_checked() {
+        let nan = [f32::NAN; 3];
+        let normals = SlotNormals::new(2, 2, vec![[0.0, 0.0, 2.0], nan]);
+        assert_eq!(normals.num_present(), 1);
+        assert_eq!(normals.compacted(), vec![[0.0, 0.0, 1.0]]);
+        assert_eq!(
+            normals.for_triangle_map(&[0, NO_TRIANGLE], 1),
+            Ok(vec![[0.0, 0.0, 1.0]])
+        );
+        assert!(normals.for_triangle_map(&[0], 1).is_err());
+        assert!(normals.for_triangle_map(&[0, 0], 1).is_err());
+        assert!(normals.for_triangle_map(&[3, NO_TRIANGLE], 1).is_err());
+        assert!(
+            normals
+                .for_triangle_map(&[NO_TRIANGLE, NO_TRIANGLE], 1)
+                .is_err()
+        );
+        assert_eq!(normals.at(0, 0, 0), Some([0.0, 0.0, 2.0]));
+        assert_eq!(normals.at(0, 0, 1), None);
+        assert_eq!(normals.at(1, 0, 0), None);
+    }
+}

@@ -1,0 +1,1 @@
+//! Smoothing of general half-edge meshes.

@@ -1,0 +1,293 @@
+//! Options of the organized-cloud filters and the backend choice.
+
+use crate::SmoothError;
+
+/// Where a filter on an organized cloud runs. All three give the same answer: `Cpu` and
+/// `CpuParallel` bit for bit, `Gpu` within f32 rounding (see the crate docs for the
+/// tolerance the tests hold it to).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum Backend {
+    /// One thread.
+    Cpu,
+    /// Rows spread over the current rayon thread pool (its size is the thread count; run
+    /// inside `ThreadPool::install` to choose it). Identical output to [`Backend::Cpu`] at
+    /// any thread count.
+    #[default]
+    CpuParallel,
+    /// wgpu compute shaders (cargo feature `gpu`). Through the free functions each call
+    /// creates a [`GpuSmoother`](crate::GpuSmoother) (finding the adapter and compiling the
+    /// shaders); create one yourself and reuse it when filtering many clouds.
+    Gpu,
+}
+
+/// Options of the Laplacian vertex filter on an organized cloud (Polylidar3D Eq. 1–2).
+///
+/// `v' = v + λ (Σ w_j v_j / Σ w_j − v)` with `w_j = 1 / (‖v − v_j‖ + ε)` over the
+/// `kernel × kernel` pixel neighbourhood of `v` (itself excluded, NaN neighbours skipped),
+/// repeated `iterations` times, each iteration reading only the previous one's output.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LaplacianOptions {
+    /// Side of the square pixel neighbourhood: odd, ≥ 3. Pixels closer than `kernel / 2` to
+    /// the image edge are not filtered. Default 3.
+    pub kernel: u32,
+    /// Step towards the weighted neighbour mean: 0 keeps the cloud, 1 moves to the mean.
+    /// Any finite value is accepted. Default 1.0.
+    pub lambda: f32,
+    /// Number of passes. Default 2.
+    pub iterations: u32,
+    /// ε of the inverse-distance weights, in the cloud's length unit; finite and > 0.
+    /// Default 1e-6.
+    pub epsilon: f32,
+    /// Where to run. Default [`Backend::CpuParallel`].
+    pub backend: Backend,
+}
+
+impl Default for LaplacianOptions {
+    fn default() -> Self {
+        Self {
+            kernel: 3,
+            lambda: 1.0,
+            iterations: 2,
+            epsilon: 1e-6,
+            backend: Backend::default(),
+        }
+    }
+}
+
+impl LaplacianOptions {
+    /// The defaults (kernel 3, λ 1, 2 iterations, ε 1e-6, [`Backend::CpuParallel`]).
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Sets [`Self::kernel`].
+    pub fn with_kernel(mut self, kernel: u32) -> Self {
+        self.kernel = kernel;
+        self
+    }
+
+    /// Sets [`Self::lambda`].
+    pub fn with_lambda(mut self, lambda: f32) -> Self {
+        self.lambda = lambda;
+        self
+    }
+
+    /// Sets [`Self::iterations`].
+    pub fn with_iterations(mut self, iterations: u32) -> Self {
+        self.iterations = iterations;
+        self
+    }
+
+    /// Sets [`Self::epsilon`].
+    pub fn with_epsilon(mut self, epsilon: f32) -> Self {
+        self.epsilon = epsilon;
+        self
+    }
+
+    /// Sets [`Self::backend`].
+    pub fn with_backend(mut self, backend: Backend) -> Self {
+        self.backend = backend;
+        self
+    }
+
+    /// Checks every field.
+    ///
+    /// # Errors
+    /// [`SmoothError::InvalidKernel`] or [`SmoothError::InvalidParameter`].
+    pub fn validate(&self) -> Result<(), SmoothError> {
+        check_kernel(self.kernel)?;
+        if !self.lambda.is_finite() {
+            return Err(invalid("lambda", self.lambda, "must be finite"));
+        }
+        if !(self.epsilon.is_finite() && self.epsilon > 0.0) {
+            return Err(invalid("epsilon", self.epsilon, "must be finite and > 0"));
+        }
+        Ok(())
+    }
+}
+
+/// Options of the bilateral normal filter on the implicit mesh of an organized cloud
+/// (Polylidar3D Eq. 3–5, after Zheng et al.).
+///
+/// For each triangle with normal `n` and centroid `c`,
+/// `n' = normalize(Σ W_s W_r n_j / Σ W_s W_r)` with `W_s = exp(−‖c − c_j‖² / σ_l²)` and
+/// `W_r = exp(−‖n − n_j‖² / σ_a²)`, over both triangles of every cell in the
+/// `kernel × kernel` cell neighbourhood except the triangle's own cell, missing triangles
+/// skipped; repeated `iterations` times. Centroids stay fixed: only normals change.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BilateralOptions {
+    /// Side of the square cell neighbourhood: odd, ≥ 3. Cells closer than `kernel / 2` to
+    /// the edge of the cell grid keep their unfiltered normals. Default 3.
+    pub kernel: u32,
+    /// σ_l, the spatial scale, in the cloud's length unit; finite and > 0. Default 0.1.
+    pub sigma_length: f32,
+    /// σ_a, the normal-difference scale: a Euclidean distance between unit normals
+    /// (0 to 2; 0.1 ≈ 5.7°); finite and > 0. Default 0.1.
+    pub sigma_angle: f32,
+    /// Number of passes; 0 returns the unfiltered normals. Default 2.
+    pub iterations: u32,
+    /// Where to run. Default [`Backend::CpuParallel`].
+    pub backend: Backend,
+}
+
+impl Default for BilateralOptions {
+    fn default() -> Self {
+        Self {
+            kernel: 3,
+            sigma_length: 0.1,
+            sigma_angle: 0.1,
+            iterations: 2,
+            backend: Backend::default(),
+        }
+    }
+}
+
+impl BilateralOptions {
+    /// The defaults (kernel 3, σ_l 0.1, σ_a 0.1, 2 iterations, [`Backend::CpuParallel`]).
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Sets [`Self::kernel`].
+    pub fn with_kernel(mut self, kernel: u32) -> Self {
+        self.kernel = kernel;
+        self
+    }
+
+    /// Sets [`Self::sigma_length`].
+    pub fn with_sigma_length(mut self, sigma_length: f32) -> Self {
+        self.sigma_length = sigma_length;
+        self
+    }
+
+    /// Sets [`Self::sigma_angle`].
+    pub fn with_sigma_angle(mut self, sigma_angle: f32) -> Self {
+        self.sigma_angle = sigma_angle;
+        self
+    }
+
+    /// Sets [`Self::iterations`].
+    pub fn with_iterations(mut self, iterations: u32) -> Self {
+        self.iterations = iterations;
+        self
+    }
+
+    /// Sets [`Self::backend`].
+    pub fn with_backend(mut self, backend: Backend) -> Self {
+        self.backend = backend;
+        self
+    }
+
+    /// Checks every field.
+    ///
+    /// # Errors
+    /// [`SmoothError::InvalidKernel`] or [`SmoothError::InvalidParameter`].
+    pub fn validate(&self) -> Result<(), SmoothError> {
+        check_kernel(self.kernel)?;
+        check_sigma("sigma_length", self.sigma_length)?;
+        check_sigma("sigma_angle", self.sigma_angle)
+    }
+
+    /// `1 / σ_l²` and `1 / σ_a²`, the factors every backend multiplies by.
+    pub(crate) fn inverse_variances(&self) -> (f32, f32) {
+        (
+            1.0 / (self.sigma_length * self.sigma_length),
+            1.0 / (self.sigma_angle * self.sigma_angle),
+        )
+    }
+}
+
+fn check_kernel(kernel: u32) -> Result<(), SmoothError> {
+    if kernel < 3 || kernel % 2 == 0 {
+        return Err(SmoothError::InvalidKernel { kernel });
+    }
+    Ok(())
+}
+
+fn check_sigma(name: &'static str, sigma: f32) -> Result<(), SmoothError> {
+    let inverse_variance = 1.0 / (sigma * sigma);
+    if !(sigma.is_finite() && sigma > 0.0 && inverse_variance.is_finite()) {
+        return Err(invalid(
+            name,
+            sigma,
+            "must be finite and > 0 (and not so small that 1/σ² overflows)",
+        ));
+    }
+    Ok(())
+}
+
+fn invalid(name: &'static str, value: f32, reason: &'static str) -> SmoothError {
+    SmoothError::InvalidParameter {
+        name,
+        value: f64::from(value),
+        reason,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn defaults_are_valid() {
+        assert!(LaplacianOptions::default().validate().is_ok());
+        assert!(BilateralOptions::default().validate().is_ok());
+    }
+
+    #[test]
+    fn bad_kernels_are_rejected() {
+        for kernel in [0, 1, 2, 4, 6] {
+            assert_eq!(
+                LaplacianOptions::new().with_kernel(kernel).validate(),
+                Err(SmoothError::InvalidKernel { kernel })
+            );
+            assert!(
+                BilateralOptions::new()
+                    .with_kernel(kernel)
+                    .validate()
+                    .is_err()
+            );
+        }
+        assert!(LaplacianOptions::new().with_kernel(7).validate().is_ok());
+    }
+
+    #[test]
+    fn bad_numbers_are_rejected() {
+        assert!(
+            LaplacianOptions::new()
+                .with_lambda(f32::NAN)
+                .validate()
+                .is_err()
+        );
+        assert!(
+            LaplacianOptions::new()
+                .with_epsilon(0.0)
+                .validate()
+                .is_err()
+        );
+        assert!(
+            BilateralOptions::new()
+                .with_sigma_length(0.0)
+                .validate()
+                .is_err()
+        );
+        assert!(
+            BilateralOptions::new()
+                .with_sigma_angle(-1.0)
+                .validate()
+                .is_err()
+        );
+        assert!(
+            BilateralOptions::new()
+                .with_sigma_angle(1e-30)
+                .validate()
+                .is_err()
+        );
+        assert!(
+            BilateralOptions::new()
+                .with_sigma_length(f32::INFINITY)
+                .validate()
+                .is_err()
+        );
+    }
+}
