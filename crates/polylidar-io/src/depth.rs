@@ -60,8 +60,15 @@ fn decode_png(bytes: &[u8]) -> KindResult<DepthImage> {
         .map_err(|e| ErrorKind::Decoder(e.to_string()))?;
     let (color, depth) = reader.output_color_type();
     if color != png::ColorType::Grayscale || depth != png::BitDepth::Sixteen {
+        let hint = if color == png::ColorType::Rgb {
+            " (an RGB picture is a colorized depth visualization without metric depth; \
+             see read_colorized_depth_png)"
+        } else {
+            ""
+        };
         return Err(ErrorKind::NotDepth(format!(
-            "{depth:?}-bit {color:?} image; depth images are 16-bit greyscale"
+            "{} {color:?} image; depth images are 16-bit greyscale{hint}",
+            bit_text(depth)
         )));
     }
     let size = reader
@@ -88,6 +95,16 @@ fn decode_png(bytes: &[u8]) -> KindResult<DepthImage> {
         height,
         data,
     })
+}
+
+pub(crate) fn bit_text(depth: png::BitDepth) -> &'static str {
+    match depth {
+        png::BitDepth::One => "1-bit",
+        png::BitDepth::Two => "2-bit",
+        png::BitDepth::Four => "4-bit",
+        png::BitDepth::Eight => "8-bit",
+        png::BitDepth::Sixteen => "16-bit",
+    }
 }
 
 /// Writes a 16-bit greyscale PNG depth image.

@@ -5,6 +5,7 @@
 //! | PCD v0.7 (v0.6 headers tolerated): `ascii`, `binary`, `binary_compressed` (LZF) | [`read_pcd`], [`read_pcd_fields`] | [`write_pcd`], [`write_pcd_with_options`] |
 //! | NumPy `.npy` v1–v3, bool/int/float dtypes of either byte order, C or Fortran order | [`read_npy`] | [`write_npy_f64`], [`write_npy_f32`], [`write_npy_i32`] |
 //! | 16-bit greyscale depth PNG + RealSense `_metadata.csv` | [`read_depth_png`], [`read_realsense_intrinsics`], [`metadata_path_for`] | [`write_depth_png`] |
+//! | RealSense Viewer colorized depth pictures (8-bit RGB, Jet colormap): depth *order* only | [`read_colorized_depth_png`] | — |
 //! | text tables of 2D/3D points | [`read_csv_points`] | — |
 //! | PLY ascii / binary (both byte orders) | [`read_ply`] | [`write_ply`] (binary little-endian) |
 //! | Wavefront OBJ (`v`, `f`) | [`read_obj`] | — |
@@ -41,6 +42,7 @@
 
 mod auto;
 mod cloud;
+mod colorized;
 mod csv;
 mod depth;
 mod error;
@@ -53,6 +55,7 @@ mod ply;
 
 pub use auto::{InputKind, format_of, read_input};
 pub use cloud::{LasCloud, MeshData, MeshStats, PointCloud, PointTable};
+pub use colorized::{ColorizedDepth, parse_colorized_depth_png, read_colorized_depth_png};
 pub use csv::{parse_csv_points, read_csv_points};
 pub use depth::{
     CameraIntrinsics, DepthImage, encode_depth_png, metadata_path_for, parse_depth_png,

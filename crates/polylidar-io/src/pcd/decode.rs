@@ -186,13 +186,28 @@ fn decode_ascii(
         first_token.push(tokens_per_point);
         tokens_per_point += f.count;
     }
+    let n = header.points();
+    let data = bytes.get(header.data_start..).unwrap_or_default();
+    if n == 0 {
+        if data.iter().all(u8::is_ascii_whitespace) {
+            return Ok(());
+        }
+        return Err(ErrorKind::Shape(
+            "DATA ascii has point lines, the header declares 0 points".to_owned(),
+        ));
+    }
+    // Whether each token is an `F 4` value; `prepare` checked that the data has room for
+    // at least one line of `tokens_per_point` values.
+    let is_f32: Vec<bool> = header
+        .fields
+        .iter()
+        .flat_map(|f| std::iter::repeat_n(f.ty == ScalarType::F32, f.count))
+        .collect();
     let targets: Vec<(usize, usize)> = wanted
         .iter()
         .enumerate()
         .map(|(slot, w)| (first_token[w.field] + w.element, slot))
         .collect();
-    let n = header.points();
-    let data = bytes.get(header.data_start..).unwrap_or_default();
     let header_lines = bytes[..header.data_start.min(bytes.len())]
         .iter()
         .filter(|&&b| b == b'\n')
@@ -220,8 +235,14 @@ fn decode_ascii(
         let mut count = 0usize;
         values.clear();
         for (k, token) in line.split_ascii_whitespace().enumerate() {
-            if k < tokens_per_point {
-                values.push(token.parse::<f64>().map_err(|_| ErrorKind::Line {
+            if let Some(&single) = is_f32.get(k) {
+                // An `F 4` value is the f32 nearest to its text, as the writer meant it.
+                let value = if single {
+                    token.parse::<f32>().map(f64::from)
+                } else {
+                    token.parse::<f64>()
+                };
+                values.push(value.map_err(|_| ErrorKind::Line {
                     line: line_no,
                     reason: format!("value {} ({token:?}) is not a number", k + 1),
                 })?);
