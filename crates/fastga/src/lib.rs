@@ -1,1 +1,70 @@
-//! Work in progress: see the crate README once it lands.
+//! # fastga — the Fast Gaussian Accumulator
+//!
+//! Finds the dominant plane normals of a set of unit normals (for example the triangle
+//! normals of a mesh), as in §6 of the Polylidar3D paper (Castagno & Atkins, 2020):
+//!
+//! 1. a **refined icosahedron** ([`Icosahedron`], levels 0–7, `20·4^L` triangle cells) is the
+//!    histogram of the sphere; its cells are sorted by their normals' [S2 cell ids](s2id);
+//! 2. each normal is binned into the cell with the closest normal by **Algorithm 3**: its S2
+//!    id, a least-squares line from id to array index with exact worst-case error bounds, a
+//!    branchless binary search in that window, then steepest ascent over the 1-ring neighbour
+//!    matrix by true angular distance ([`GaussianAccumulator`]);
+//! 3. the vertex values (mean of the incident cells) are **unwrapped** into the five-chart
+//!    image of Cohen et al. ([`UnwrappedImage`], writable as PNG) normalised to 0–255, whose
+//!    3×3 local maxima above `value_threshold` are the [`Peak`]s;
+//! 4. peaks are merged by single-linkage clustering within `cluster_distance` into
+//!    [`DominantNormal`]s, and clusters lighter than `min_cluster_weight` are dropped.
+//!
+//! [`KdAccumulator`] is the same accumulator searched with a k-d tree (kiddo), the baseline the
+//! paper compares against. The crate depends on no other part of polylidar-rs.
+//!
+//! ```
+//! use fastga::{FastGaConfig, dominant_normals};
+//!
+//! // Normals of a floor and a wall, plus a few invalid ones that are skipped and counted.
+//! let mut normals: Vec<[f64; 3]> = vec![[0.0, 0.0, 1.0]; 3000];
+//! normals.extend(vec![[0.0, -1.0, 0.0]; 1000]);
+//! normals.push([f64::NAN, 0.0, 0.0]);
+//! let found = dominant_normals(&normals, &FastGaConfig::default())?;
+//! assert_eq!(found.len(), 2);
+//! assert!(found[0].normal[2] > 0.9999); // the floor is the strongest
+//! assert!(found[1].normal[1] < -0.9999);
+//! # Ok::<(), fastga::FastGaError>(())
+//! ```
+//!
+//! ## Determinism and threads
+//! Integration is sequential or runs on the current rayon pool ([`Parallelism`]); counts and
+//! the per-cell normal sums are integers, so every result is bit-identical for any thread
+//! count. Sampling (`sample_fraction`) picks normals by a hash of their index.
+//!
+//! ## Cargo features
+//! None.
+
+mod accumulator;
+mod config;
+mod error;
+pub mod icosahedron;
+mod image;
+mod integrate;
+mod kdtree;
+mod peaks;
+pub mod s2id;
+mod search;
+
+pub use accumulator::{DEFAULT_UNIT_TOLERANCE, GaussianAccumulator};
+pub use config::{Detection, FastGa, FastGaConfig, dominant_normals};
+pub use error::FastGaError;
+pub use icosahedron::{Icosahedron, MAX_LEVEL, NO_NEIGHBOR, NORTH_POLE, SOUTH_POLE};
+pub use image::UnwrappedImage;
+pub use integrate::{AsNormal, IntegrateStats, Parallelism};
+pub use kdtree::KdAccumulator;
+pub use peaks::{DominantNormal, Peak, cluster_peaks};
+
+/// Checks a unit-length tolerance.
+fn unit_tolerance_checked(tolerance: f64) -> Result<f64, FastGaError> {
+    if (0.0..1.0).contains(&tolerance) {
+        Ok(tolerance)
+    } else {
+        Err(FastGaError::InvalidUnitTolerance(tolerance))
+    }
+}

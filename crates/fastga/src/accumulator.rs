@@ -1,0 +1,156 @@
+//! The Fast Gaussian Accumulator: a histogram of unit normals over the cells of a refined
+//! icosahedron, filled with the learned-index search of Algorithm 3.
+
+use crate::icosahedron::{Icosahedron, normalized};
+use crate::image::{ImageLayout, UnwrappedImage};
+use crate::integrate::{AsNormal, Bins, Driver, IntegrateStats, Parallelism, SUM_SCALE, Sampler};
+use crate::search::CellSearch;
+use crate::{FastGaError, unit_tolerance_checked};
+
+/// Default tolerance on `|‖n‖² − 1|` for a normal to count as unit length.
+pub const DEFAULT_UNIT_TOLERANCE: f64 = 1e-4;
+
+/// Histogram of unit normals on a refined icosahedron (the paper's Gaussian accumulator).
+///
+/// Each cell keeps a count and the sum of the normals binned in it (so peaks can report the
+/// mean of the actual normals, not only the cell centre).
+///
+/// ```
+/// use fastga::{GaussianAccumulator, Parallelism};
+///
+/// let mut ga = GaussianAccumulator::new(4)?;
+/// let normals = [[0.0, 0.0, 1.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [f64::NAN, 0.0, 0.0]];
+/// let stats = ga.integrate(&normals, 1.0, Parallelism::Sequential)?;
+/// assert_eq!((stats.integrated, stats.skipped_invalid), (3, 1));
+/// let up = ga.find_cell([0.0, 0.0, 1.0]) as usize;
+/// assert_eq!(ga.counts()[up], 2);
+/// # Ok::<(), fastga::FastGaError>(())
+/// ```
+#[derive(Debug, Clone)]
+pub struct GaussianAccumulator {
+    ico: Icosahedron,
+    search: CellSearch,
+    bins: Bins,
+    layout: ImageLayout,
+    unit_tolerance: f64,
+}
+
+impl GaussianAccumulator {
+    /// An empty accumulator on the icosahedron refined `level` times (0 ..= 7; the paper uses
+    /// 3–5).
+    ///
+    /// # Errors
+    /// [`FastGaError::LevelOutOfRange`] above [`MAX_LEVEL`](crate::MAX_LEVEL).
+    pub fn new(level: u32) -> Result<Self, FastGaError> {
+        let ico = Icosahedron::new(level)?;
+        let search = CellSearch::new(&ico);
+        let bins = Bins::new(ico.cell_count());
+        let layout = ImageLayout::new(level);
+        Ok(Self {
+            ico,
+            search,
+            bins,
+            layout,
+            unit_tolerance: DEFAULT_UNIT_TOLERANCE,
+        })
+    }
+
+    /// Sets the tolerance on `|‖n‖² − 1|` above which a normal is skipped as not unit length
+    /// (default [`DEFAULT_UNIT_TOLERANCE`]).
+    ///
+    /// # Errors
+    /// [`FastGaError::InvalidUnitTolerance`] unless `0 ≤ tolerance < 1`.
+    pub fn set_unit_tolerance(&mut self, tolerance: f64) -> Result<(), FastGaError> {
+        self.unit_tolerance = unit_tolerance_checked(tolerance)?;
+        Ok(())
+    }
+
+    /// The icosahedron whose triangles are the cells.
+    pub fn icosahedron(&self) -> &Icosahedron {
+        &self.ico
+    }
+
+    /// The worst-case errors `(min, max)` of `index − predicted index` of the id → index line
+    /// over all cells, computed at construction; the binary search window spans them.
+    pub fn model_error_bounds(&self) -> (i64, i64) {
+        self.search.error_bounds()
+    }
+
+    /// Bins `normals` (each of unit length within the tolerance; others are counted in
+    /// [`IntegrateStats::skipped_invalid`] and ignored) into the cells with the closest normal.
+    ///
+    /// `sample_fraction` in (0, 1] keeps that fraction of the input, chosen by a hash of each
+    /// normal's index: the same normals for every call and thread count. Counts add up over
+    /// calls; see [`clear`](Self::clear).
+    ///
+    /// # Errors
+    /// [`FastGaError::InvalidSampleFraction`] outside (0, 1].
+    pub fn integrate<N: AsNormal>(
+        &mut self,
+        normals: &[N],
+        sample_fraction: f64,
+        parallelism: Parallelism,
+    ) -> Result<IntegrateStats, FastGaError> {
+        let driver = Driver {
+            sampler: Sampler::new(sample_fraction)?,
+            unit_tolerance: self.unit_tolerance,
+            parallelism,
+        };
+        let search = &self.search;
+        Ok(driver.run(normals, &mut self.bins, |p| search.find(p)))
+    }
+
+    /// Index of the cell whose normal is closest to `p` (by angle). `p` need not be unit
+    /// length but must be finite and non-zero; the result is unspecified otherwise.
+    #[inline]
+    pub fn find_cell(&self, p: [f64; 3]) -> u32 {
+        self.search.find(p)
+    }
+
+    /// Empties every cell.
+    pub fn clear(&mut self) {
+        self.bins.clear();
+    }
+
+    /// The number of normals in each cell (cells in [`Icosahedron::triangles`] order).
+    pub fn counts(&self) -> &[u64] {
+        &self.bins.counts
+    }
+
+    /// Total number of normals binned.
+    pub fn total(&self) -> u64 {
+        self.bins.counts.iter().sum()
+    }
+
+    /// The sum of the normals binned in `cell` (to within 2⁻³⁰ per normal), or zeros.
+    pub fn cell_normal_sum(&self, cell: u32) -> [f64; 3] {
+        self.bins.sums[cell as usize].map(|s| s as f64 / SUM_SCALE)
+    }
+
+    /// The mean direction of the normals binned in `cell`, or `None` if it is empty.
+    pub fn cell_mean_normal(&self, cell: u32) -> Option<[f64; 3]> {
+        (self.bins.counts[cell as usize] > 0).then(|| normalized(self.cell_normal_sum(cell)))
+    }
+
+    /// The value of each icosahedron vertex: the mean count of its incident cells (as in the
+    /// original FastGA), indexed like [`Icosahedron::vertices`].
+    pub fn vertex_values(&self) -> Vec<f64> {
+        (0..self.ico.vertices().len() as u32)
+            .map(|v| {
+                let cells = self.ico.vertex_cells(v);
+                let sum: u64 = cells.iter().map(|&c| self.bins.counts[c as usize]).sum();
+                sum as f64 / cells.len() as f64
+            })
+            .collect()
+    }
+
+    /// The unwrapped image of the vertex values (five charts with one-pixel padding),
+    /// normalised to 0–255.
+    pub fn unwrapped_image(&self) -> UnwrappedImage {
+        UnwrappedImage::new(&self.layout, &self.vertex_values())
+    }
+
+    pub(crate) fn layout(&self) -> &ImageLayout {
+        &self.layout
+    }
+}

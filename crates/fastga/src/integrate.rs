@@ -1,0 +1,229 @@
+//! The integration driver shared by the accumulators: input conversion, validity filter,
+//! deterministic sampling, and sequential or rayon-parallel binning with results independent
+//! of the thread count.
+
+use rayon::prelude::*;
+
+use crate::FastGaError;
+use crate::icosahedron::dot;
+
+/// Scale of the fixed-point per-cell normal sums: integer sums are exact and associative, so
+/// they do not depend on the order (and thread count) in which normals are added.
+pub(crate) const SUM_SCALE: f64 = (1u64 << 30) as f64;
+
+/// Normals per parallel task.
+const CHUNK: usize = 8192;
+
+/// A 3D normal that the accumulators can integrate: implemented for `[f64; 3]` and `[f32; 3]`.
+pub trait AsNormal: Sync {
+    /// The normal in double precision.
+    fn to_f64(&self) -> [f64; 3];
+}
+
+impl AsNormal for [f64; 3] {
+    #[inline(always)]
+    fn to_f64(&self) -> [f64; 3] {
+        *self
+    }
+}
+
+impl AsNormal for [f32; 3] {
+    #[inline(always)]
+    fn to_f64(&self) -> [f64; 3] {
+        self.map(f64::from)
+    }
+}
+
+/// Whether integration runs on the calling thread or on the current rayon thread pool.
+///
+/// Results are identical either way and for any number of threads: counts and the
+/// fixed-point normal sums are integers. Run inside `ThreadPool::install` to choose the
+/// thread count.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Parallelism {
+    /// One thread: the caller's.
+    Sequential,
+    /// Chunks of the input on the current rayon pool (the global pool unless installed).
+    #[default]
+    Rayon,
+}
+
+/// What one call to `integrate` did with its input.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct IntegrateStats {
+    /// Normals binned into a cell.
+    pub integrated: u64,
+    /// Normals skipped because they are NaN, infinite or not of unit length.
+    pub skipped_invalid: u64,
+    /// Normals left out by `sample_fraction`.
+    pub skipped_by_sampling: u64,
+}
+
+impl IntegrateStats {
+    fn add(&mut self, other: &Self) {
+        self.integrated += other.integrated;
+        self.skipped_invalid += other.skipped_invalid;
+        self.skipped_by_sampling += other.skipped_by_sampling;
+    }
+}
+
+/// Deterministic selection of a fraction of the input by a hash of each normal's index: the
+/// same normals are kept for any thread count, without the aliasing of a fixed stride on
+/// structured (e.g. organized) inputs.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Sampler {
+    /// Keep index `i` when `mix(i) < threshold`; `None` keeps everything.
+    threshold: Option<u64>,
+}
+
+impl Sampler {
+    pub(crate) fn new(fraction: f64) -> Result<Self, FastGaError> {
+        if !(fraction > 0.0 && fraction <= 1.0) {
+            return Err(FastGaError::InvalidSampleFraction(fraction));
+        }
+        let threshold = (fraction < 1.0).then(|| (fraction * 2f64.powi(64)) as u64);
+        Ok(Self { threshold })
+    }
+
+    #[inline(always)]
+    fn keep(self, index: u64) -> bool {
+        self.threshold.is_none_or(|t| mix(index) < t)
+    }
+}
+
+/// SplitMix64 finaliser of `index` offset by a fixed odd constant.
+#[inline(always)]
+fn mix(index: u64) -> u64 {
+    let mut z = index.wrapping_add(0x9E37_79B9_7F4A_7C15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^ (z >> 31)
+}
+
+/// Per-cell counts and fixed-point sums of the normals binned there.
+#[derive(Debug, Clone)]
+pub(crate) struct Bins {
+    pub(crate) counts: Vec<u64>,
+    pub(crate) sums: Vec<[i64; 3]>,
+}
+
+impl Bins {
+    pub(crate) fn new(cells: usize) -> Self {
+        Self {
+            counts: vec![0; cells],
+            sums: vec![[0; 3]; cells],
+        }
+    }
+
+    pub(crate) fn clear(&mut self) {
+        self.counts.fill(0);
+        self.sums.fill([0; 3]);
+    }
+
+    fn merge(&mut self, other: &Self) {
+        for (a, b) in self.counts.iter_mut().zip(&other.counts) {
+            *a += b;
+        }
+        for (a, b) in self.sums.iter_mut().zip(&other.sums) {
+            for k in 0..3 {
+                a[k] = a[k].wrapping_add(b[k]);
+            }
+        }
+    }
+
+    #[inline(always)]
+    fn add(&mut self, cell: usize, p: [f64; 3]) {
+        self.counts[cell] += 1;
+        let sum = &mut self.sums[cell];
+        for k in 0..3 {
+            sum[k] = sum[k].wrapping_add((p[k] * SUM_SCALE) as i64);
+        }
+    }
+}
+
+/// Settings of one integration.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Driver {
+    pub(crate) sampler: Sampler,
+    pub(crate) unit_tolerance: f64,
+    pub(crate) parallelism: Parallelism,
+}
+
+impl Driver {
+    /// Bins `normals` with `find` (normal → cell index) into `bins`.
+    pub(crate) fn run<N, F>(&self, normals: &[N], bins: &mut Bins, find: F) -> IntegrateStats
+    where
+        N: AsNormal,
+        F: Fn([f64; 3]) -> u32 + Sync,
+    {
+        match self.parallelism {
+            Parallelism::Sequential => self.chunk(normals, 0, bins, &find),
+            Parallelism::Rayon => {
+                let cells = bins.counts.len();
+                let (local, stats) = normals
+                    .par_chunks(CHUNK)
+                    .enumerate()
+                    .fold(
+                        || (Bins::new(cells), IntegrateStats::default()),
+                        |(mut b, mut s), (k, chunk)| {
+                            s.add(&self.chunk(chunk, (k * CHUNK) as u64, &mut b, &find));
+                            (b, s)
+                        },
+                    )
+                    .reduce_with(|(mut a, mut sa), (b, sb)| {
+                        a.merge(&b);
+                        sa.add(&sb);
+                        (a, sa)
+                    })
+                    .unwrap_or_else(|| (Bins::new(cells), IntegrateStats::default()));
+                bins.merge(&local);
+                stats
+            }
+        }
+    }
+
+    #[inline(always)]
+    fn chunk<N, F>(&self, chunk: &[N], first: u64, bins: &mut Bins, find: &F) -> IntegrateStats
+    where
+        N: AsNormal,
+        F: Fn([f64; 3]) -> u32,
+    {
+        let mut stats = IntegrateStats::default();
+        for (k, n) in chunk.iter().enumerate() {
+            if !self.sampler.keep(first + k as u64) {
+                stats.skipped_by_sampling += 1;
+                continue;
+            }
+            let p = n.to_f64();
+            // NaN and infinities fail this comparison too.
+            let unit = (dot(p, p) - 1.0).abs() <= self.unit_tolerance;
+            if !unit {
+                stats.skipped_invalid += 1;
+                continue;
+            }
+            bins.add(find(p) as usize, p);
+            stats.integrated += 1;
+        }
+        stats
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sampler_keeps_about_the_fraction() {
+        let s = Sampler::new(0.12).unwrap();
+        let kept = (0..100_000u64).filter(|&i| s.keep(i)).count();
+        assert!((11_500..12_500).contains(&kept), "{kept}");
+        let all = Sampler::new(1.0).unwrap();
+        assert!((0..1000u64).all(|i| all.keep(i)));
+        for bad in [0.0, -0.1, 1.5, f64::NAN] {
+            assert!(matches!(
+                Sampler::new(bad),
+                Err(FastGaError::InvalidSampleFraction(_))
+            ));
+        }
+    }
+}
