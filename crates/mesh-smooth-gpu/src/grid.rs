@@ -19,20 +19,20 @@
 //! `(b − a) × (c − a)` for the vertex order `[a, b, c]` above, normalised, the same rule as
 //! `halfedge_mesh::cross_normal`; centroids are `(a + b + c) / 3`.
 //!
-//! A mesher that follows Alg. 1 (opc-mesh) appends the existing triangles in slot order, so
-//! mesh triangle `t` is the `t`-th existing slot: [`SlotNormals::compacted`] and
-//! [`SlotNormals::apply_to_mesh`] rely on that; [`SlotNormals::for_triangle_map`] takes an
-//! explicit slot → triangle map instead.
+//! This is opc-mesh's convention too (`CellTriangle::First` is `k = 0`), so the
+//! `TriangleMap` of an `OpcMesh` built from the same cloud maps slots to mesh triangles:
+//! [`SlotNormals::apply_to_opc_mesh`] hands filtered normals to such a mesh, and
+//! [`SlotNormals::for_triangle_map`] takes any slot → triangle map.
 
-use halfedge_mesh::HalfEdgeMesh;
+use opc_mesh::OpcMesh;
 
 use crate::SmoothError;
 
 /// Triangles per cell of the implicit mesh.
 pub const TRIANGLES_PER_CELL: usize = 2;
 
-/// The sentinel of a slot → triangle map for a slot without a triangle.
-pub const NO_TRIANGLE: u32 = u32::MAX;
+/// The sentinel of a slot → triangle map for a slot without a triangle (opc-mesh's).
+pub const NO_TRIANGLE: u32 = opc_mesh::NO_TRIANGLE;
 
 /// The slot (global id) of triangle `k ∈ {0, 1}` of cell `(r, c)` in a cloud with `cols`
 /// columns.
@@ -116,34 +116,31 @@ impl SlotNormals {
         self.normals.iter().filter(|n| !n[0].is_nan()).count()
     }
 
-    /// The normals of the existing triangles in slot order, renormalised in `f64`: entry `t`
-    /// belongs to triangle `t` of a mesh built from the same cloud by Alg. 1 (opc-mesh).
-    pub fn compacted(&self) -> Vec<[f64; 3]> {
-        self.normals
-            .iter()
-            .filter(|n| !n[0].is_nan())
-            .map(|n| to_unit_f64(*n))
-            .collect()
-    }
-
-    /// Replaces the triangle normals of `mesh`, which must have been built from the same
-    /// cloud by Alg. 1 (existing triangles appended in slot order), with these.
+    /// Replaces the triangle normals of a mesh built from the same cloud by opc-mesh with
+    /// these, through its GID → triangle map.
+    ///
+    /// opc-mesh also leaves out triangles whose `f64` normal is undefined (repeated or
+    /// collinear points); their slots are simply not used. A mesh triangle whose `f32`
+    /// normal here came out zero (area below `f32` resolution, border or isolated) gets
+    /// `[0, 0, 0]`, halfedge-mesh's convention for a zero-area triangle.
     ///
     /// # Errors
-    /// [`SmoothError::TriangleCountMismatch`] if the mesh's triangle count differs from the
-    /// number of existing slots.
-    pub fn apply_to_mesh(&self, mesh: &mut HalfEdgeMesh) -> Result<(), SmoothError> {
-        let normals = self.compacted();
-        if normals.len() != mesh.num_triangles() {
-            return Err(SmoothError::TriangleCountMismatch {
-                present: normals.len(),
-                mesh_triangles: mesh.num_triangles(),
+    /// [`SmoothError::BadTriangleMap`] if the mesh was built from a cloud of another shape
+    /// or maps a triangle this filter found missing (another cloud).
+    pub fn apply_to_opc_mesh(&self, opc: &mut OpcMesh) -> Result<(), SmoothError> {
+        let map = &opc.triangle_map;
+        if map.cell_rows() + 1 != self.rows || map.cell_cols() + 1 != self.cols {
+            return Err(SmoothError::BadTriangleMap {
+                slot: 0,
+                reason: "the mesh was built from a cloud of another shape",
             });
         }
-        mesh.set_triangle_normals(normals)
-            .map_err(|_| SmoothError::TriangleCountMismatch {
-                present: self.num_present(),
-                mesh_triangles: mesh.num_triangles(),
+        let normals = self.for_triangle_map(map.as_slice(), opc.mesh.num_triangles())?;
+        opc.mesh
+            .set_triangle_normals(normals)
+            .map_err(|_| SmoothError::BadTriangleMap {
+                slot: 0,
+                reason: "the map does not cover the mesh's triangles",
             })
     }
 
@@ -227,7 +224,6 @@ mod tests {
         let nan = [f32::NAN; 3];
         let normals = SlotNormals::new(2, 2, vec![[0.0, 0.0, 2.0], nan]);
         assert_eq!(normals.num_present(), 1);
-        assert_eq!(normals.compacted(), vec![[0.0, 0.0, 1.0]]);
         assert_eq!(
             normals.for_triangle_map(&[0, NO_TRIANGLE], 1),
             Ok(vec![[0.0, 0.0, 1.0]])

@@ -10,8 +10,15 @@ use mesh_smooth_gpu::{Backend, BilateralOptions, GpuSmoother, LaplacianOptions, 
 
 /// Laplacian points: |gpu − cpu| ≤ this × (1 + |coordinate|).
 const LAPLACIAN_TOLERANCE: f64 = 1e-5;
-/// Bilateral unit normals: component-wise |gpu − cpu| ≤ this.
+/// Bilateral unit normals: component-wise |gpu − cpu| ≤ this (on real data: for all but
+/// [`ILL_CONDITIONED_FRACTION`] of the triangles).
 const BILATERAL_TOLERANCE: f64 = 1e-4;
+/// Triangles whose every neighbour weight is near `f32` underflow (a normal unlike all its
+/// neighbours') turn with the last bits of `exp`; on real data this fraction of them may
+/// differ by more than [`BILATERAL_TOLERANCE`], but by at most [`ILL_CONDITIONED_TOLERANCE`].
+const ILL_CONDITIONED_FRACTION: f64 = 1e-4;
+/// See [`ILL_CONDITIONED_FRACTION`].
+const ILL_CONDITIONED_TOLERANCE: f64 = 1e-2;
 
 /// The GPU, or `None` (skip) outside CI when there is none.
 fn gpu() -> Option<GpuSmoother> {
@@ -110,4 +117,41 @@ fn free_functions_run_on_the_gpu_backend() {
     let options = BilateralOptions::new().with_backend(Backend::Gpu);
     let normals = mesh_smooth_gpu::bilateral_filter(&cloud, &options).expect("GPU run");
     assert_eq!(normals.as_slice().len(), 2 * 15 * 15);
+}
+
+/// The SynPEB cloud pc_01 (500 × 500, NaN where the simulated scan has no return).
+fn pc_01() -> Option<opc_mesh::OrganizedPointCloud> {
+    let path = test_fixtures::fixture("synpeb/pc_01.pcd")?;
+    let pcd = polylidar_io::read_pcd(&path).expect("readable pc_01.pcd");
+    Some(opc_mesh::OrganizedPointCloud::new(pcd.rows, pcd.cols, pcd.points).expect("organized"))
+}
+
+#[test]
+fn gpu_matches_cpu_on_pc_01() {
+    let Some(cloud) = pc_01() else { return };
+    let Some(mut gpu) = gpu() else { return };
+    let laplacian = LaplacianOptions::new().with_kernel(3).with_iterations(5);
+    let cpu = mesh_smooth_gpu::laplacian_filter(&cloud, &laplacian).expect("valid options");
+    let on_gpu = gpu.laplacian(&cloud, &laplacian).expect("GPU run");
+    let diff = max_relative_difference(on_gpu.points(), cpu.points());
+    eprintln!("pc_01 Laplacian k3 5 it: max relative difference {diff:e}");
+    assert!(diff <= LAPLACIAN_TOLERANCE);
+
+    let bilateral = BilateralOptions::new().with_kernel(3).with_iterations(2);
+    let cpu = mesh_smooth_gpu::bilateral_filter(&cloud, &bilateral).expect("valid options");
+    let on_gpu = gpu.bilateral(&cloud, &bilateral).expect("GPU run");
+    let diff = max_normal_difference(on_gpu.as_slice(), cpu.as_slice());
+    let beyond = on_gpu
+        .as_slice()
+        .iter()
+        .zip(cpu.as_slice())
+        .filter(|(g, c)| (0..3).any(|k| f64::from((g[k] - c[k]).abs()) > BILATERAL_TOLERANCE))
+        .count();
+    let fraction = beyond as f64 / cpu.num_present() as f64;
+    eprintln!(
+        "pc_01 bilateral k3 2 it: max normal difference {diff:e}; {beyond} of {} triangles beyond {BILATERAL_TOLERANCE:e}",
+        cpu.num_present()
+    );
+    assert!(diff <= ILL_CONDITIONED_TOLERANCE);
+    assert!(fraction <= ILL_CONDITIONED_FRACTION);
 }

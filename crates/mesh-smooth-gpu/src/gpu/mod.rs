@@ -77,9 +77,9 @@ struct ShapeBuffers {
 }
 
 impl GpuSmoother {
-    /// Finds a GPU adapter (high-performance preference; `WGPU_BACKEND` and the other wgpu
-    /// environment variables are honoured), opens a device and compiles the shaders.
-    /// Blocks (pollster) until done.
+    /// Finds a GPU adapter (high-performance preference; Vulkan, Metal or DX12 first, then
+    /// any backend including GL; `WGPU_BACKEND` and the other wgpu environment variables
+    /// are honoured), opens a device and compiles the shaders. Blocks (pollster) until done.
     ///
     /// # Errors
     /// [`SmoothError::NoAdapter`] when no adapter exists (no GPU and no software driver
@@ -93,17 +93,14 @@ impl GpuSmoother {
     /// # Errors
     /// As [`Self::new`].
     pub async fn new_async() -> Result<Self, SmoothError> {
-        let instance =
-            wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
-        let adapter = instance
-            .request_adapter(&wgpu::RequestAdapterOptions {
-                power_preference: wgpu::PowerPreference::HighPerformance,
-                ..Default::default()
-            })
-            .await
-            .map_err(|e| SmoothError::NoAdapter {
-                reason: e.to_string(),
-            })?;
+        let adapter = match request_adapter(wgpu::Backends::PRIMARY).await {
+            Ok(adapter) => adapter,
+            Err(_) => request_adapter(wgpu::Backends::all()).await.map_err(|e| {
+                SmoothError::NoAdapter {
+                    reason: e.to_string(),
+                }
+            })?,
+        };
         let info = adapter.get_info();
         let (device, queue) = adapter
             .request_device(&wgpu::DeviceDescriptor {
@@ -481,6 +478,25 @@ impl ErrorScopes {
             None => Ok(()),
         }
     }
+}
+
+/// An adapter from the given backends (overridable by `WGPU_BACKEND`).
+async fn request_adapter(
+    backends: wgpu::Backends,
+) -> Result<wgpu::Adapter, wgpu::RequestAdapterError> {
+    let instance = wgpu::Instance::new(
+        wgpu::InstanceDescriptor {
+            backends,
+            ..wgpu::InstanceDescriptor::new_without_display_handle()
+        }
+        .with_env(),
+    );
+    instance
+        .request_adapter(&wgpu::RequestAdapterOptions {
+            power_preference: wgpu::PowerPreference::HighPerformance,
+            ..Default::default()
+        })
+        .await
 }
 
 /// Workgroups covering `n` invocations along one axis.
