@@ -38,4 +38,4 @@ pub use config::Config;
 pub use diagnostics::{Counts, Diagnostics, Timings};
 pub use error::PolylidarError;
 pub use halfedge_mesh::{HalfEdgeMesh, MeshError};
-pub use pipeline::{ExtractedPolygon, Extraction, Polylidar};
+pub use pipeline::{ExtractedPolygon, Extraction, PlaneFrame, Polylidar};

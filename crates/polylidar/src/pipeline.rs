@@ -226,16 +226,24 @@ fn unit(v: [f64; 3]) -> [f64; 3] {
     v.map(|c| c / len)
 }
 
-/// Coordinates in the plane orthogonal to a unit `up`, right-handed about it: for
-/// `up = +z` they are plain `(x, y)`.
+/// Coordinates in the plane orthogonal to `up`, right-handed about it: for `up = +z`
+/// they are plain `(x, y)`. The 2.5D pipeline extracts polygons in this frame.
+///
+/// ```
+/// use polylidar::PlaneFrame;
+/// let frame = PlaneFrame::new([0.0, 0.0, 2.0]);
+/// assert_eq!(frame.project([3.0, 4.0, 5.0]), [3.0, 4.0]);
+/// ```
 #[derive(Debug, Clone, Copy)]
-pub(crate) struct PlaneFrame {
+pub struct PlaneFrame {
     e1: [f64; 3],
     e2: [f64; 3],
 }
 
 impl PlaneFrame {
-    pub(crate) fn new(up: [f64; 3]) -> Self {
+    /// The frame for a non-zero `up` (normalised here).
+    pub fn new(up: [f64; 3]) -> Self {
+        let up = unit(up);
         if up == [0.0, 0.0, 1.0] {
             return Self {
                 e1: [1.0, 0.0, 0.0],
@@ -263,8 +271,9 @@ impl PlaneFrame {
         Self { e1, e2 }
     }
 
+    /// The in-plane coordinates of `p`.
     #[inline]
-    pub(crate) fn project(&self, p: [f64; 3]) -> [f64; 2] {
+    pub fn project(&self, p: [f64; 3]) -> [f64; 2] {
         [
             p[0] * self.e1[0] + p[1] * self.e1[1] + p[2] * self.e1[2],
             p[0] * self.e2[0] + p[1] * self.e2[1] + p[2] * self.e2[2],

@@ -1,7 +1,8 @@
 //! Shapes with a known answer: uniform point samples inside (multi)polygons, the L² shape
 //! error of the 2D paper, GeoJSON shape loading, and the built-in demo shape.
 
-use geo::{Area, BooleanOps, Coord, LineString, MultiPolygon, Polygon, TriangulateEarcut};
+pub use geo::MultiPolygon;
+use geo::{Area, BooleanOps, Coord, LineString, Polygon, TriangulateEarcut};
 use rand::rngs::Xoshiro256PlusPlus;
 use rand::{RngExt, SeedableRng};
 
@@ -93,6 +94,12 @@ pub fn sample_uniform(
             ]
         })
         .collect())
+}
+
+/// The α of the 2D paper's benchmarks for `n` points sampled in `shape`: `2·√(area / n)`,
+/// twice the mean point spacing.
+pub fn paper_alpha(shape: &MultiPolygon<f64>, n: usize) -> f64 {
+    2.0 * (shape.unsigned_area() / n as f64).sqrt()
 }
 
 /// The L² shape error of the 2D paper: area of the symmetric difference between `truth`

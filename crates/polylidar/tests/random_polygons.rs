@@ -11,7 +11,12 @@ use proptest::prelude::*;
 
 /// A star-shaped polygon: `radii.len()` vertices at increasing angles, each at a radius in
 /// `[min_radius, 1]`, with round holes placed where they fit.
-fn star_polygon(angles: &[f64], radii: &[f64], min_radius: f64, holes: &[(f64, f64)]) -> Polygon<f64> {
+fn star_polygon(
+    angles: &[f64],
+    radii: &[f64],
+    min_radius: f64,
+    holes: &[(f64, f64)],
+) -> Polygon<f64> {
     let mut angles = angles.to_vec();
     angles.sort_by(f64::total_cmp);
     angles.dedup_by(|a, b| (*a - *b).abs() < 1e-3);
@@ -20,19 +25,30 @@ fn star_polygon(angles: &[f64], radii: &[f64], min_radius: f64, holes: &[(f64, f
         .zip(radii)
         .map(|(&t, &r)| {
             let r = min_radius + (1.0 - min_radius) * r;
-            Coord { x: r * t.cos(), y: r * t.sin() }
+            Coord {
+                x: r * t.cos(),
+                y: r * t.sin(),
+            }
         })
         .collect();
     let shell_polygon = Polygon::new(shell.clone(), vec![]);
     let mut rings: Vec<(f64, f64, f64)> = Vec::new();
     for &(t, d) in holes {
-        let (cx, cy) = (0.6 * min_radius * d * t.cos(), 0.6 * min_radius * d * t.sin());
+        let (cx, cy) = (
+            0.6 * min_radius * d * t.cos(),
+            0.6 * min_radius * d * t.sin(),
+        );
         let r = 0.12 * min_radius.max(0.3);
         let fits = (0..16).all(|k| {
             let a = f64::from(k) / 16.0 * std::f64::consts::TAU;
-            shell_polygon.contains(&Coord { x: cx + 1.5 * r * a.cos(), y: cy + 1.5 * r * a.sin() })
+            shell_polygon.contains(&Coord {
+                x: cx + 1.5 * r * a.cos(),
+                y: cy + 1.5 * r * a.sin(),
+            })
         });
-        let apart = rings.iter().all(|&(x, y, q)| ((x - cx).powi(2) + (y - cy).powi(2)).sqrt() > 1.5 * (q + r));
+        let apart = rings
+            .iter()
+            .all(|&(x, y, q)| ((x - cx).powi(2) + (y - cy).powi(2)).sqrt() > 1.5 * (q + r));
         if fits && apart {
             rings.push((cx, cy, r));
         }
@@ -44,7 +60,10 @@ fn star_polygon(angles: &[f64], radii: &[f64], min_radius: f64, holes: &[(f64, f
                 .rev()
                 .map(|k| {
                     let a = f64::from(k) / 24.0 * std::f64::consts::TAU;
-                    Coord { x: cx + r * a.cos(), y: cy + r * a.sin() }
+                    Coord {
+                        x: cx + r * a.cos(),
+                        y: cy + r * a.sin(),
+                    }
                 })
                 .collect()
         })
@@ -53,7 +72,11 @@ fn star_polygon(angles: &[f64], radii: &[f64], min_radius: f64, holes: &[(f64, f
 }
 
 fn arb_polygon() -> impl Strategy<Value = Polygon<f64>> {
-    (8usize..40, prop_oneof![Just(0.8), Just(0.5), Just(0.15)], any::<u64>())
+    (
+        8usize..40,
+        prop_oneof![Just(0.8), Just(0.5), Just(0.15)],
+        any::<u64>(),
+    )
         .prop_flat_map(|(k, min_radius, _)| {
             (
                 proptest::collection::vec(0.0..std::f64::consts::TAU, k),
@@ -62,8 +85,12 @@ fn arb_polygon() -> impl Strategy<Value = Polygon<f64>> {
                 proptest::collection::vec((0.0..std::f64::consts::TAU, 0.0f64..1.0), 0..4),
             )
         })
-        .prop_map(|(angles, radii, min_radius, holes)| star_polygon(&angles, &radii, min_radius, &holes))
-        .prop_filter("a valid truth polygon", |p| p.is_valid() && p.exterior().0.len() >= 4)
+        .prop_map(|(angles, radii, min_radius, holes)| {
+            star_polygon(&angles, &radii, min_radius, &holes)
+        })
+        .prop_filter("a valid truth polygon", |p| {
+            p.is_valid() && p.exterior().0.len() >= 4
+        })
 }
 
 proptest! {
