@@ -1,0 +1,250 @@
+//! Hand-made cases with known answers.
+
+use geo::{Area, Validation, wkt};
+use polypost::{DropReason, Plane, Polygon, Polygon3, PostError, PostProcessor, PostprocessConfig};
+
+fn processor(config: PostprocessConfig) -> PostProcessor {
+    PostProcessor::new(config).unwrap()
+}
+
+fn square(x0: f64, y0: f64, side: f64) -> Vec<(f64, f64)> {
+    vec![
+        (x0, y0),
+        (x0 + side, y0),
+        (x0 + side, y0 + side),
+        (x0, y0 + side),
+    ]
+}
+
+fn poly(shell: &[(f64, f64)], holes: &[Vec<(f64, f64)>]) -> Polygon<f64> {
+    Polygon::new(
+        shell.to_vec().into(),
+        holes.iter().map(|h| h.clone().into()).collect(),
+    )
+}
+
+#[test]
+fn bow_tie_is_repaired_into_two_triangles() {
+    let bow = wkt!(POLYGON((0. 0., 10. 10., 10. 0., 0. 10., 0. 0.)));
+    let out = processor(PostprocessConfig::default()).process_2d(&bow);
+    assert_eq!(out.polygons.len(), 2);
+    let total: f64 = out.polygons.iter().map(|p| p.polygon.unsigned_area()).sum();
+    assert!((total - 50.0).abs() < 1e-6, "area {total}");
+    assert!(out.polygons.iter().all(|p| p.polygon.is_valid()));
+    assert_eq!(out.diagnostics.repaired_inputs, 1);
+    assert_eq!(out.diagnostics.output_polygons, 2);
+}
+
+#[test]
+fn bow_tie_on_a_tilted_plane_is_repaired_and_stays_on_the_plane() {
+    let plane = Plane::from_normal_and_point([0.3, -0.2, 0.9], [5.0, 1.0, -2.0]).unwrap();
+    let f = plane.frame();
+    let shell = [[0.0, 0.0], [2.0, 2.0], [2.0, 0.0], [0.0, 2.0]]
+        .map(|q| f.to_3d(q))
+        .to_vec();
+    let out = processor(PostprocessConfig::rgbd().with_min_area(0.0))
+        .process_3d(&Polygon3::new(shell, vec![]), &plane);
+    assert_eq!(out.diagnostics.repaired_inputs, 1);
+    assert!(!out.polygons.is_empty());
+    for p in &out.polygons {
+        for q in p
+            .polygon
+            .shell
+            .iter()
+            .chain(p.polygon.holes.iter().flatten())
+        {
+            assert!(plane.signed_distance(*q).abs() < 1e-9);
+        }
+    }
+}
+
+#[test]
+fn valid_polygon_without_steps_passes_unchanged() {
+    let shell = square(0.0, 0.0, 4.0);
+    let hole = square(1.0, 1.0, 1.0);
+    let p = poly(&shell, &[hole]);
+    let out = processor(PostprocessConfig::default().with_min_area(14.9)).process_2d(&p);
+    assert_eq!(out.polygons.len(), 1);
+    let q = &out.polygons[0].polygon;
+    assert_eq!(q.unsigned_area(), 15.0);
+    assert_eq!(q.interiors().len(), 1);
+    assert_eq!(out.diagnostics.repaired_inputs, 0);
+    // γ just above the area drops it.
+    let out = processor(PostprocessConfig::default().with_min_area(15.1)).process_2d(&p);
+    assert!(out.polygons.is_empty());
+    assert_eq!(out.diagnostics.dropped_by_area, 1);
+}
+
+#[test]
+fn hole_filter_uses_hole_area() {
+    let shell = square(0.0, 0.0, 10.0);
+    let small = square(1.0, 1.0, 0.5); // 0.25
+    let big = square(5.0, 5.0, 2.0); // 4
+    let p = poly(&shell, &[small, big]);
+    let out = processor(PostprocessConfig::default().with_min_hole_area(0.3)).process_2d(&p);
+    assert_eq!(out.polygons.len(), 1);
+    assert_eq!(out.polygons[0].polygon.interiors().len(), 1);
+    assert_eq!(out.polygons[0].polygon.unsigned_area(), 96.0);
+    assert_eq!(out.diagnostics.holes_dropped_by_area, 1);
+}
+
+#[test]
+fn positive_buffer_fills_a_small_hole_and_negative_restores_the_outline() {
+    let shell = square(0.0, 0.0, 10.0);
+    let tiny = square(4.0, 4.0, 0.1);
+    let p = poly(&shell, &[tiny]);
+    let config = PostprocessConfig::default()
+        .with_beta_pos(0.2)
+        .with_beta_neg(0.2);
+    let out = processor(config).process_2d(&p);
+    assert_eq!(out.polygons.len(), 1);
+    let q = &out.polygons[0].polygon;
+    assert!(
+        q.interiors().is_empty(),
+        "the 0.1 m hole closes under a 0.2 m buffer"
+    );
+    assert!(
+        (q.unsigned_area() - 100.0).abs() < 0.05,
+        "area {}",
+        q.unsigned_area()
+    );
+}
+
+#[test]
+fn negative_buffer_splits_a_dumbbell_and_keeps_the_source() {
+    // Two 2 m squares joined by a 0.1 m wide corridor.
+    let shell = vec![
+        (0.0, 0.0),
+        (2.0, 0.0),
+        (2.0, 0.95),
+        (4.0, 0.95),
+        (4.0, 0.0),
+        (6.0, 0.0),
+        (6.0, 2.0),
+        (4.0, 2.0),
+        (4.0, 1.05),
+        (2.0, 1.05),
+        (2.0, 2.0),
+        (0.0, 2.0),
+    ];
+    let polys = vec![poly(&square(10.0, 10.0, 1.0), &[]), poly(&shell, &[])];
+    let out = processor(PostprocessConfig::default().with_beta_neg(0.1))
+        .process_many_2d(&polys)
+        .unwrap();
+    assert_eq!(out.of_source(0).len(), 1);
+    assert_eq!(out.of_source(1).len(), 2);
+    assert!(out.polygons.iter().all(|p| p.polygon.is_valid()));
+}
+
+#[test]
+fn erosion_can_remove_everything() {
+    let p = poly(&square(0.0, 0.0, 0.1), &[]);
+    let out = processor(PostprocessConfig::default().with_beta_neg(0.1)).process_2d(&p);
+    assert!(out.polygons.is_empty());
+    assert_eq!(out.diagnostics.vanished, 1);
+}
+
+#[test]
+fn unusable_inputs_are_dropped_with_reasons() {
+    let nan = poly(&[(0.0, 0.0), (1.0, f64::NAN), (0.0, 1.0)], &[]);
+    let two = poly(&[(0.0, 0.0), (1.0, 0.0), (1.0, 0.0), (0.0, 0.0)], &[]);
+    let line = poly(&[(0.0, 0.0), (1.0, 0.0), (2.0, 0.0)], &[]);
+    let ok = poly(&square(0.0, 0.0, 1.0), &[]);
+    let out = processor(PostprocessConfig::default())
+        .process_many_2d(&[nan, two, line, ok])
+        .unwrap();
+    let d = &out.diagnostics;
+    assert_eq!(d.input_polygons, 4);
+    assert_eq!(d.output_polygons, 1);
+    assert_eq!(d.dropped_invalid, 3);
+    assert_eq!(d.dropped[0].source, 0);
+    assert_eq!(d.dropped[0].reason, DropReason::NonFiniteCoordinate);
+    assert_eq!(
+        d.dropped[1].reason,
+        DropReason::DegenerateShell {
+            distinct_vertices: 2
+        }
+    );
+    assert_eq!(d.dropped[2].reason, DropReason::NoAreaAfterRepair);
+    assert_eq!(out.polygons[0].source, 3);
+}
+
+#[test]
+fn hole_outside_shell_and_overlapping_holes_are_repaired() {
+    let shell = square(0.0, 0.0, 10.0);
+    let outside = square(20.0, 20.0, 1.0);
+    let a = square(2.0, 2.0, 2.0);
+    let b = square(3.0, 3.0, 2.0);
+    let p = poly(&shell, &[outside, a, b]);
+    let out = processor(PostprocessConfig::default()).process_2d(&p);
+    assert_eq!(out.diagnostics.repaired_inputs, 1);
+    assert_eq!(out.polygons.len(), 1);
+    let q = &out.polygons[0].polygon;
+    assert!(q.is_valid());
+    // 100 minus the union of the two overlapping 2 × 2 holes (4 + 4 − 1).
+    assert!((q.unsigned_area() - 93.0).abs() < 1e-6);
+}
+
+#[test]
+fn simplification_stays_within_alpha() {
+    // A jagged circle: radius 3 m with ±1 cm teeth.
+    let n = 400;
+    let shell: Vec<(f64, f64)> = (0..n)
+        .map(|i| {
+            let t = std::f64::consts::TAU * i as f64 / n as f64;
+            let r = 3.0 + if i % 2 == 0 { 0.01 } else { -0.01 };
+            (r * t.cos(), r * t.sin())
+        })
+        .collect();
+    let alpha = 0.05;
+    let p = poly(&shell, &[]);
+    let out = processor(PostprocessConfig::default().with_alpha(alpha)).process_2d(&p);
+    assert_eq!(out.polygons.len(), 1);
+    let q = &out.polygons[0].polygon;
+    assert!(
+        q.exterior().0.len() < n / 4,
+        "{} vertices left",
+        q.exterior().0.len()
+    );
+    // Oracle: distance from every input vertex to the simplified ring.
+    use geo::{Distance, Euclidean, Point};
+    for &(x, y) in &shell {
+        let d = Euclidean.distance(&Point::new(x, y), q.exterior());
+        assert!(
+            d <= alpha + 1e-9,
+            "vertex ({x}, {y}) is {d} from the simplified ring"
+        );
+    }
+}
+
+#[test]
+fn bad_config_and_mismatched_batches_are_errors() {
+    assert!(matches!(
+        PostProcessor::new(PostprocessConfig::default().with_alpha(-1.0)),
+        Err(PostError::BadParameter { field: "alpha", .. })
+    ));
+    let plane = Plane::from_normal_and_point([0.0, 0.0, 1.0], [0.0; 3]).unwrap();
+    let r = processor(PostprocessConfig::default())
+        .process_many_3d(&[Polygon3::default()], &[plane, plane]);
+    assert!(matches!(
+        r,
+        Err(PostError::LengthMismatch {
+            polygons: 1,
+            planes: 2
+        })
+    ));
+}
+
+#[test]
+fn bad_plane_is_reported() {
+    let plane = Plane {
+        normal: [0.0, 0.0, 0.0],
+        offset: 0.0,
+        centroid: [0.0; 3],
+    };
+    let shell = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+    let out =
+        processor(PostprocessConfig::default()).process_3d(&Polygon3::new(shell, vec![]), &plane);
+    assert!(out.polygons.is_empty());
+    assert_eq!(out.diagnostics.dropped[0].reason, DropReason::BadPlane);
+}
