@@ -1,34 +1,18 @@
 //! Delaunay triangulation of 2D point sets and of 3D clouds projected on a plane (2.5D).
 
-use spade::handles::FixedVertexHandle;
-use spade::{DelaunayTriangulation, HasPosition, InsertionError, Point2, Triangulation};
-
 use crate::mesh::NO_TWIN;
 use crate::{HalfEdgeMesh, MeshError};
 
-/// A point handed to spade, remembering its index in the caller's array.
-#[derive(Debug, Clone, Copy)]
-struct Indexed {
-    position: Point2<f64>,
-    index: u32,
-}
-
-impl HasPosition for Indexed {
-    type Scalar = f64;
-    fn position(&self) -> Point2<f64> {
-        self.position
-    }
-}
-
-/// Summary of a triangulation: points merged because they coincide with another.
+/// Summary of a triangulation: points left out because they coincide with another.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct DelaunayReport {
-    /// Input points left out because an equal point was already in the triangulation.
+    /// Input points left out because an equal (or, within 2^-51 in both coordinates,
+    /// nearly equal) point was already in the triangulation.
     pub duplicate_points: usize,
 }
 
 impl HalfEdgeMesh {
-    /// Delaunay triangulation of a 2D point set (spade, exact predicates). Vertices are the
+    /// Delaunay triangulation of a 2D point set (sweep-hull, exact orientation tests). Vertices are the
     /// input points with `z = 0`, in input order; every triangle normal is `+z`.
     ///
     /// Coincident points are triangulated once; the others stay as unused vertices.
@@ -149,8 +133,15 @@ impl PlaneFrame {
     }
 }
 
+/// The largest coordinate magnitude accepted: the in-circle test raises coordinate
+/// differences to the fourth power, which must stay finite.
+pub const MAX_COORDINATE: f64 = 1e60;
+
 /// Triangulates `n` points given by `point(i)` and returns counter-clockwise triangles
 /// (indices into the caller's array) and their twin array.
+///
+/// Uses delaunator (sweep-hull with exact orientation tests); its triangles run clockwise
+/// in a y-up frame, so each is reversed here and the twin array remapped.
 fn triangulate(
     n: usize,
     point: impl Fn(usize) -> [f64; 2],
@@ -166,66 +157,49 @@ fn triangulate(
     }
     let mut input = Vec::with_capacity(n);
     for i in 0..n {
-        let p = point(i);
-        if !(p[0].is_finite() && p[1].is_finite()) {
+        let [x, y] = point(i);
+        if !(x.is_finite() && y.is_finite()) {
             return Err(MeshError::NonFinitePoint { index: i });
         }
-        input.push(Indexed {
-            position: Point2::new(p[0], p[1]),
-            index: i as u32,
-        });
-    }
-    let tri = DelaunayTriangulation::<Indexed>::bulk_load(input).map_err(|e| match e {
-        // Finite values spade cannot represent exactly (|x| > 2^201 or subnormal-small).
-        InsertionError::NAN | InsertionError::TooLarge | InsertionError::TooSmall => {
-            MeshError::NonFinitePoint {
-                index: first_unrepresentable(n, &point),
-            }
+        if x.abs().max(y.abs()) > MAX_COORDINATE {
+            return Err(MeshError::CoordinateTooLarge {
+                index: i,
+                value: if x.abs() > y.abs() { x } else { y },
+                max: MAX_COORDINATE,
+            });
         }
-    })?;
-    if tri.num_inner_faces() == 0 {
+        input.push(delaunator::Point { x, y });
+    }
+    let result = delaunator::triangulate(&input);
+    let num_triangles = result.triangles.len() / 3;
+    if num_triangles == 0 {
         return Err(MeshError::Collinear { count: n });
     }
-    if 3 * tri.num_inner_faces() >= u32::MAX as usize {
+    if result.triangles.len() >= u32::MAX as usize {
         return Err(MeshError::TooLarge {
             what: "triangles",
-            count: tri.num_inner_faces(),
+            count: num_triangles,
         });
     }
+    // Reversing [a, b, c] into [a, c, b] turns old half-edge j into new half-edge 2 − j.
+    let flip = |h: usize| (h - h % 3 + 2 - h % 3) as u32;
+    let triangles: Vec<[u32; 3]> = result
+        .triangles
+        .chunks_exact(3)
+        .map(|t| [t[0] as u32, t[2] as u32, t[1] as u32])
+        .collect();
+    let mut halfedges = vec![NO_TWIN; result.halfedges.len()];
+    for (h, &twin) in result.halfedges.iter().enumerate() {
+        if twin != delaunator::EMPTY {
+            halfedges[flip(h) as usize] = flip(twin);
+        }
+    }
+    let mut used = vec![false; n];
+    for &v in &result.triangles {
+        used[v] = true;
+    }
     let report = DelaunayReport {
-        duplicate_points: n - tri.num_vertices(),
+        duplicate_points: used.iter().filter(|u| !**u).count(),
     };
-    let vertex_index = |v: FixedVertexHandle| tri.vertex(v).data().index;
-
-    // Half-edge 3t + i is the i-th directed edge of inner face t walked from the face's
-    // adjacent edge; spade's directed edge indices map back to it without hashing.
-    let mut he_of_edge = vec![NO_TWIN; tri.num_directed_edges()];
-    let mut triangles = Vec::with_capacity(tri.num_inner_faces());
-    for (t, face) in tri.inner_faces().enumerate() {
-        let e0 = face.adjacent_edge();
-        let edges = [e0, e0.next(), e0.prev()];
-        triangles.push(edges.map(|e| vertex_index(e.from().fix())));
-        for (i, e) in edges.iter().enumerate() {
-            he_of_edge[e.fix().index()] = (3 * t + i) as u32;
-        }
-    }
-    let mut halfedges = vec![NO_TWIN; 3 * triangles.len()];
-    for (t, face) in tri.inner_faces().enumerate() {
-        let e0 = face.adjacent_edge();
-        for (i, e) in [e0, e0.next(), e0.prev()].iter().enumerate() {
-            halfedges[3 * t + i] = he_of_edge[e.rev().fix().index()];
-        }
-    }
     Ok((triangles, halfedges, report))
-}
-
-/// The first point spade refuses (too large or too small in magnitude to be exact).
-fn first_unrepresentable(n: usize, point: &impl Fn(usize) -> [f64; 2]) -> usize {
-    (0..n)
-        .find(|&i| {
-            point(i)
-                .iter()
-                .any(|c| spade::validate_coordinate(*c).is_err())
-        })
-        .unwrap_or(0)
 }

@@ -17,6 +17,17 @@ pub enum MeshError {
         /// Index of the offending point.
         index: usize,
     },
+    /// A coordinate is so large that the squared distances of the Delaunay tests would
+    /// overflow.
+    #[error("point {index} has a coordinate of magnitude {value:e}, beyond the supported {max:e}")]
+    CoordinateTooLarge {
+        /// Index of the offending point.
+        index: usize,
+        /// The coordinate.
+        value: f64,
+        /// The largest magnitude accepted.
+        max: f64,
+    },
     /// The points span no area (all on one line or all equal).
     #[error(
         "all {count} points are collinear or coincide; a triangulation needs points spanning an area"

@@ -2,8 +2,7 @@
 //! Delaunay twins, non-manifold policies, and precise errors for bad input.
 
 use halfedge_mesh::{
-    BuildReport, DegeneratePolicy, HalfEdgeMesh, MeshError, MeshOptions, NO_TWIN,
-    NonManifoldPolicy,
+    BuildReport, DegeneratePolicy, HalfEdgeMesh, MeshError, MeshOptions, NO_TWIN, NonManifoldPolicy,
 };
 use proptest::prelude::*;
 
@@ -16,16 +15,28 @@ fn assert_delaunay(mesh: &HalfEdgeMesh) {
     let v = mesh.vertices();
     for tri in mesh.triangles() {
         let [a, b, c] = tri.map(|i| v[i as usize]);
-        assert!(orient(a, b, c) > 0.0, "triangle {tri:?} is not counter-clockwise");
+        assert!(
+            orient(a, b, c) > 0.0,
+            "triangle {tri:?} is not counter-clockwise"
+        );
         for (i, d) in v.iter().enumerate() {
             if tri.contains(&(i as u32)) {
                 continue;
             }
-            let m = |p: [f64; 3]| [p[0] - d[0], p[1] - d[1], (p[0] - d[0]).powi(2) + (p[1] - d[1]).powi(2)];
+            let m = |p: [f64; 3]| {
+                [
+                    p[0] - d[0],
+                    p[1] - d[1],
+                    (p[0] - d[0]).powi(2) + (p[1] - d[1]).powi(2),
+                ]
+            };
             let (a, b, c) = (m(a), m(b), m(c));
             let det = a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
                 + a[2] * (b[0] * c[1] - b[1] * c[0]);
-            assert!(det <= 1e-7, "point {i} lies inside the circumcircle of {tri:?}");
+            assert!(
+                det <= 1e-7,
+                "point {i} lies inside the circumcircle of {tri:?}"
+            );
         }
     }
 }
@@ -75,8 +86,13 @@ proptest! {
 #[test]
 fn delaunay_25d_along_a_tilted_axis() {
     // A grid on the plane x = 2 seen along +x: triangulating on xy would fail (collinear).
-    let cloud: Vec<[f64; 3]> = (0..25).map(|i| [2.0, (i % 5) as f64, (i / 5) as f64]).collect();
-    assert!(matches!(HalfEdgeMesh::delaunay_25d(&cloud, [0.0, 0.0, 1.0]), Err(MeshError::Collinear { .. })));
+    let cloud: Vec<[f64; 3]> = (0..25)
+        .map(|i| [2.0, (i % 5) as f64, (i / 5) as f64])
+        .collect();
+    assert!(matches!(
+        HalfEdgeMesh::delaunay_25d(&cloud, [0.0, 0.0, 1.0]),
+        Err(MeshError::Collinear { .. })
+    ));
     let mesh = HalfEdgeMesh::delaunay_25d(&cloud, [1.0, 0.0, 0.0]).unwrap();
     mesh.sanity_check().unwrap();
     assert_eq!(mesh.num_triangles(), 32);
@@ -87,7 +103,10 @@ fn delaunay_25d_along_a_tilted_axis() {
 
 #[test]
 fn delaunay_errors() {
-    assert_eq!(HalfEdgeMesh::delaunay_2d(&[[0.0, 0.0], [1.0, 1.0]]), Err(MeshError::TooFewPoints { found: 2 }));
+    assert_eq!(
+        HalfEdgeMesh::delaunay_2d(&[[0.0, 0.0], [1.0, 1.0]]),
+        Err(MeshError::TooFewPoints { found: 2 })
+    );
     assert_eq!(
         HalfEdgeMesh::delaunay_2d(&[[0.0, 0.0], [1.0, f64::NAN], [1.0, 0.0]]),
         Err(MeshError::NonFinitePoint { index: 1 })
@@ -102,7 +121,7 @@ fn delaunay_errors() {
     );
     assert!(matches!(
         HalfEdgeMesh::delaunay_2d(&[[0.0, 0.0], [1e300, 0.0], [0.0, 1.0]]),
-        Err(MeshError::NonFinitePoint { index: 1 })
+        Err(MeshError::CoordinateTooLarge { index: 1, .. })
     ));
     assert!(matches!(
         HalfEdgeMesh::delaunay_25d(&[[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]], [0.0; 3]),
@@ -121,39 +140,66 @@ fn duplicates_are_merged_and_reported() {
 }
 
 fn square() -> Vec<[f64; 3]> {
-    vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]]
+    vec![
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [0.0, 1.0, 0.0],
+    ]
 }
 
 #[test]
 fn user_triangle_errors_name_the_problem() {
     assert_eq!(
         HalfEdgeMesh::from_triangles(square(), vec![[0, 1, 2], [0, 2, 7]]),
-        Err(MeshError::IndexOutOfRange { triangle: 1, vertex: 7, num_vertices: 4 })
+        Err(MeshError::IndexOutOfRange {
+            triangle: 1,
+            vertex: 7,
+            num_vertices: 4
+        })
     );
     let mut nan = square();
     nan[2][1] = f64::NAN;
     assert_eq!(
         HalfEdgeMesh::from_triangles(nan, vec![[0, 1, 3], [1, 2, 3]]),
-        Err(MeshError::NonFiniteVertex { vertex: 2, triangle: 1 })
+        Err(MeshError::NonFiniteVertex {
+            vertex: 2,
+            triangle: 1
+        })
     );
     assert!(matches!(
         HalfEdgeMesh::from_triangles(square(), vec![[0, 1, 2], [0, 0, 2]]),
-        Err(MeshError::DegenerateTriangle { triangle: 1, reason: "repeated vertex", .. })
+        Err(MeshError::DegenerateTriangle {
+            triangle: 1,
+            reason: "repeated vertex",
+            ..
+        })
     ));
     let mut line = square();
     line[3] = [2.0, 0.0, 0.0];
     assert!(matches!(
         HalfEdgeMesh::from_triangles(line, vec![[0, 1, 2], [0, 1, 3]]),
-        Err(MeshError::DegenerateTriangle { triangle: 1, reason: "zero area", .. })
+        Err(MeshError::DegenerateTriangle {
+            triangle: 1,
+            reason: "zero area",
+            ..
+        })
     ));
-    assert_eq!(HalfEdgeMesh::from_triangles(square(), vec![]), Err(MeshError::NoTriangles));
+    assert_eq!(
+        HalfEdgeMesh::from_triangles(square(), vec![]),
+        Err(MeshError::NoTriangles)
+    );
 }
 
 #[test]
 fn degenerate_triangles_can_be_dropped() {
     let options = MeshOptions::new().degenerate(DegeneratePolicy::Drop);
-    let (mesh, report) =
-        HalfEdgeMesh::from_triangles_with_options(square(), vec![[0, 1, 2], [1, 1, 2], [0, 2, 3]], options).unwrap();
+    let (mesh, report) = HalfEdgeMesh::from_triangles_with_options(
+        square(),
+        vec![[0, 1, 2], [1, 1, 2], [0, 2, 3]],
+        options,
+    )
+    .unwrap();
     assert_eq!(mesh.num_triangles(), 2);
     assert_eq!(report.dropped_degenerate, 1);
     assert_eq!(mesh.twin(2), Some(3));
@@ -171,7 +217,12 @@ fn fin_mesh(policy: NonManifoldPolicy) -> (HalfEdgeMesh, BuildReport) {
         [0.5, 0.1, 1.0],
     ];
     let triangles = vec![[0, 1, 5], [0, 1, 2], [1, 0, 3], [1, 0, 4]];
-    HalfEdgeMesh::from_triangles_with_options(vertices, triangles, MeshOptions::new().non_manifold(policy)).unwrap()
+    HalfEdgeMesh::from_triangles_with_options(
+        vertices,
+        triangles,
+        MeshOptions::new().non_manifold(policy),
+    )
+    .unwrap()
 }
 
 #[test]
@@ -207,8 +258,12 @@ fn inconsistent_orientation_stays_border() {
     assert_eq!(report.inconsistent_edges, 2);
     assert_eq!(report.non_manifold_edges, 1);
     mesh.sanity_check().unwrap();
-    let (_, report) =
-        HalfEdgeMesh::from_triangles_with_options(square(), vec![[0, 1, 2], [0, 3, 2]], MeshOptions::new()).unwrap();
+    let (_, report) = HalfEdgeMesh::from_triangles_with_options(
+        square(),
+        vec![[0, 1, 2], [0, 3, 2]],
+        MeshOptions::new(),
+    )
+    .unwrap();
     assert_eq!(report.inconsistent_edges, 1);
 }
 
@@ -217,16 +272,25 @@ fn sanity_check_catches_broken_meshes() {
     let mesh = HalfEdgeMesh::from_triangles(square(), vec![[0, 1, 2], [0, 2, 3]]).unwrap();
     let (v, t, mut h, n) = mesh.clone().into_parts();
     h[2] = 0;
-    assert!(matches!(HalfEdgeMesh::from_parts(v.clone(), t.clone(), h, n.clone()), Err(MeshError::BadTwin { .. })));
+    assert!(matches!(
+        HalfEdgeMesh::from_parts(v.clone(), t.clone(), h, n.clone()),
+        Err(MeshError::BadTwin { .. })
+    ));
     let (_, _, mut h, _) = mesh.clone().into_parts();
     h[2] = NO_TWIN;
     assert!(matches!(
         HalfEdgeMesh::from_parts(v.clone(), t.clone(), h, n.clone()),
-        Err(MeshError::BadTwin { halfedge: 3, reason: "twin link is not mutual" })
+        Err(MeshError::BadTwin {
+            halfedge: 3,
+            reason: "twin link is not mutual"
+        })
     ));
     assert!(matches!(
         HalfEdgeMesh::from_parts(v.clone(), t.clone(), vec![NO_TWIN; 5], n.clone()),
-        Err(MeshError::LengthMismatch { what: "halfedges", .. })
+        Err(MeshError::LengthMismatch {
+            what: "halfedges",
+            ..
+        })
     ));
     let mut bad_normals = n.clone();
     bad_normals[0] = [0.0, 0.0, 2.0];
@@ -234,4 +298,30 @@ fn sanity_check_catches_broken_meshes() {
         HalfEdgeMesh::from_parts(v, t, mesh.halfedges().to_vec(), bad_normals),
         Err(MeshError::BadNormal { triangle: 0 })
     ));
+}
+
+#[test]
+fn cocircular_grid_triangulates_cleanly() {
+    // Every cell of a regular grid is four cocircular points: the hardest case for an
+    // inexact in-circle test. The result must still tile the square exactly.
+    let n = 60;
+    let points: Vec<[f64; 2]> = (0..n * n)
+        .map(|i| [(i % n) as f64 * 0.1, (i / n) as f64 * 0.1])
+        .collect();
+    let mesh = HalfEdgeMesh::delaunay_2d(&points).unwrap();
+    mesh.sanity_check().unwrap();
+    assert_eq!(mesh.num_triangles(), 2 * (n - 1) * (n - 1));
+    let v = mesh.vertices();
+    let area: f64 = mesh
+        .triangles()
+        .iter()
+        .map(|t| 0.5 * orient(v[t[0] as usize], v[t[1] as usize], v[t[2] as usize]))
+        .sum();
+    let side = (n - 1) as f64 * 0.1;
+    assert!((area - side * side).abs() < 1e-9);
+    assert!(mesh.triangles().iter().all(|t| orient(
+        v[t[0] as usize],
+        v[t[1] as usize],
+        v[t[2] as usize]
+    ) > 0.0));
 }
