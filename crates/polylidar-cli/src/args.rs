@@ -54,10 +54,10 @@ pub struct ExtractArgs {
 #[derive(Debug, Args, Default)]
 pub struct ParamArgs {
     /// Keep triangles whose circumradius is at most this (0 disables). Input length units.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub alpha: Option<f64>,
     /// Keep triangles whose longest edge is at most this (0 disables). Input length units.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub lmax: Option<f64>,
     /// Drop regions with fewer triangles than this.
     #[arg(long)]
