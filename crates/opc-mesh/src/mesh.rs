@@ -5,9 +5,10 @@
 //! 1. classify every cell: which of its two triangles have three valid vertices and a
 //!    well-defined normal (one byte per cell), and count them per row;
 //! 2. after a prefix sum over the row counts (the first mesh triangle of every row), write
-//!    each row's triangles, twins, normals, map entries and (when the points are borrowed)
-//!    vertices into its own disjoint slice of the outputs. Twins come from the neighbouring
-//!    cells' classes and running counts in the rows above and below: no lookups, no hashing.
+//!    each row's triangles, twins, normals and map entries into its own disjoint slice of
+//!    the outputs. Twins come from the neighbouring cells' classes and running counts in
+//!    the rows above and below: no lookups, no hashing. The outputs are pre-filled in
+//!    parallel (see [`filled`]) so that page faults do not serialise the work.
 //!
 //! Every output element depends only on the input, so the result is identical at any
 //! thread count.
@@ -240,14 +241,12 @@ struct RowOut<'a> {
     /// Global index of the row's first triangle.
     first: u32,
     triangles: &'a mut [[u32; 3]],
-    halfedges: &'a mut [u32],
+    /// The twins of each triangle's three half-edges.
+    halfedges: &'a mut [[u32; 3]],
     /// Empty unless normals are computed.
     normals: &'a mut [[f64; 3]],
-    /// The row's `2 · cell_cols` map entries.
-    map: &'a mut [u32],
-    /// The point rows to copy (this row, and the last row too for the last cell row);
-    /// empty when the points are moved.
-    vertices: &'a mut [[f64; 3]],
+    /// The row's map entries, two per cell.
+    map: &'a mut [[u32; 2]],
 }
 
 /// Everything pass 2 reads.
@@ -283,14 +282,10 @@ impl Pass2<'_> {
             halfedges,
             normals,
             map,
-            vertices,
         } = out;
         let cols = self.cols;
         let top = &self.points[u * cols..][..cols];
         let bottom = &self.points[(u + 1) * cols..][..cols];
-        if !vertices.is_empty() {
-            vertices.copy_from_slice(&self.points[u * cols..][..vertices.len()]);
-        }
         let classes = self.classes_of(u);
         let (above, mut next_above) = self.neighbour(u.checked_sub(1));
         let (below, mut next_below) = self.neighbour(Some(u + 1));
@@ -299,7 +294,7 @@ impl Pass2<'_> {
         let mut next = first;
         let mut left_first = NO_TWIN;
         let mut local = 0;
-        for (v, (&class, map)) in classes.iter().zip(map.chunks_exact_mut(2)).enumerate() {
+        for (v, (&class, map)) in classes.iter().zip(map.iter_mut()).enumerate() {
             let class_above = above.map_or(0, |a| a[v]);
             let class_below = below.map_or(0, |b| b[v]);
             let class_right = classes.get(v + 1).copied().unwrap_or(0);
@@ -308,11 +303,10 @@ impl Pass2<'_> {
             let p4 = p1 + cols as u32;
             let (p2, p3) = (p1 + 1, p4 + 1);
             let first_t = next;
-            map[0] = NO_TRIANGLE;
-            map[1] = NO_TRIANGLE;
+            *map = [NO_TRIANGLE; 2];
             if class & FIRST != 0 {
                 triangles[local] = [p3, p2, p1];
-                let he = &mut halfedges[3 * local..3 * local + 3];
+                let he = &mut halfedges[local];
                 // Edge p3 → p2: the second triangle of the cell to the right.
                 he[0] = if class_right & SECOND != 0 {
                     3 * (after + u32::from(class_right & FIRST))
@@ -340,7 +334,7 @@ impl Pass2<'_> {
             if class & SECOND != 0 {
                 let second_t = first_t + u32::from(class & FIRST);
                 triangles[local] = [p1, p4, p3];
-                let he = &mut halfedges[3 * local..3 * local + 3];
+                let he = &mut halfedges[local];
                 // Edge p1 → p4: the first triangle of the cell to the left.
                 he[0] = left_first;
                 // Edge p4 → p3: the first triangle of the cell below.
@@ -439,41 +433,30 @@ fn mesh_grid(
     }
 
     let num_triangles = total as usize;
-    let mut triangles = vec![[0u32; 3]; num_triangles];
-    let mut halfedges = vec![0u32; 3 * num_triangles];
+    let parallel = options.parallel;
+    let mut triangles = filled(num_triangles, parallel);
+    let mut halfedges = filled(num_triangles, parallel);
     let mut normals = if options.compute_normals {
-        vec![[0.0; 3]; num_triangles]
+        filled(num_triangles, parallel)
     } else {
         Vec::new()
     };
-    let mut map = vec![0u32; 2 * cell_rows * cell_cols];
-    let mut copied = match vertices {
-        Vertices::Copy => vec![[0.0; 3]; rows * cols],
-        Vertices::Move => Vec::new(),
-    };
+    let mut map = filled(cell_rows * cell_cols, parallel);
 
     let mut jobs = Vec::with_capacity(cell_rows);
     let (mut t_rest, mut h_rest) = (triangles.as_mut_slice(), halfedges.as_mut_slice());
     let (mut n_rest, mut m_rest) = (normals.as_mut_slice(), map.as_mut_slice());
-    let mut v_rest = copied.as_mut_slice();
     for (u, &n) in counts.iter().enumerate() {
         let n = n as usize;
         let n_normals = if options.compute_normals { n } else { 0 };
-        let n_vertices = match (vertices, u + 1 == cell_rows) {
-            (Vertices::Move, _) => 0,
-            (Vertices::Copy, false) => cols,
-            (Vertices::Copy, true) => 2 * cols,
-        };
         let triangles;
         let halfedges;
         let normals;
         let map;
-        let vertices;
         (triangles, t_rest) = std::mem::take(&mut t_rest).split_at_mut(n);
-        (halfedges, h_rest) = std::mem::take(&mut h_rest).split_at_mut(3 * n);
+        (halfedges, h_rest) = std::mem::take(&mut h_rest).split_at_mut(n);
         (normals, n_rest) = std::mem::take(&mut n_rest).split_at_mut(n_normals);
-        (map, m_rest) = std::mem::take(&mut m_rest).split_at_mut(2 * cell_cols);
-        (vertices, v_rest) = std::mem::take(&mut v_rest).split_at_mut(n_vertices);
+        (map, m_rest) = std::mem::take(&mut m_rest).split_at_mut(cell_cols);
         jobs.push(RowOut {
             row: u,
             first: offsets[u],
@@ -481,7 +464,6 @@ fn mesh_grid(
             halfedges,
             normals,
             map,
-            vertices,
         });
     }
 
@@ -498,13 +480,40 @@ fn mesh_grid(
         jobs.into_iter().for_each(|job| pass2.write_row(job));
     }
 
+    let copied = match (vertices, parallel) {
+        (Vertices::Move, _) => Vec::new(),
+        (Vertices::Copy, true) => points.par_iter().copied().collect(),
+        (Vertices::Copy, false) => points.to_vec(),
+    };
     Ok(Parts {
         vertices: copied,
         triangles,
-        halfedges,
+        halfedges: flatten(halfedges),
         normals,
-        triangle_map: TriangleMap::from_vec(cell_rows, cell_cols, map),
+        triangle_map: TriangleMap::from_vec(cell_rows, cell_cols, flatten(map)),
     })
+}
+
+/// `n` default values. In parallel, rayon writes them from several threads, so that the
+/// first touch of every page (the kernel's page fault and zeroing) is spread over the
+/// threads too, where `vec!` would do it all on this one.
+fn filled<T: Copy + Default + Send + Sync>(n: usize, parallel: bool) -> Vec<T> {
+    if parallel {
+        let mut items = Vec::with_capacity(n);
+        items.par_extend(rayon::iter::repeat_n(T::default(), n));
+        items
+    } else {
+        vec![T::default(); n]
+    }
+}
+
+/// `[u32; N]` items as a flat vector, reusing the allocation.
+fn flatten<const N: usize>(items: Vec<[u32; N]>) -> Vec<u32>
+where
+    [u32; N]: bytemuck::NoUninit,
+{
+    bytemuck::allocation::try_cast_vec(items)
+        .unwrap_or_else(|(_, items)| items.into_iter().flatten().collect())
 }
 
 #[cfg(test)]
@@ -525,6 +534,16 @@ mod tests {
         assert_eq!(check_mesh_size(20_000, 30_000), Ok(()));
         assert!(check_mesh_size(40_000, 40_000).is_err());
         assert!(check_mesh_size(usize::MAX, usize::MAX).is_err());
+    }
+
+    #[test]
+    fn flatten_and_filled() {
+        assert_eq!(flatten(vec![[1, 2, 3], [4, 5, 6]]), vec![1, 2, 3, 4, 5, 6]);
+        let mut odd = Vec::with_capacity(3);
+        odd.push([7u32, 8]);
+        assert_eq!(flatten(odd), vec![7, 8]);
+        assert_eq!(filled::<[u32; 2]>(5, true), vec![[0, 0]; 5]);
+        assert_eq!(filled::<u8>(3, false), vec![0; 3]);
     }
 
     #[test]
