@@ -6,6 +6,8 @@ use std::path::Path;
 use crate::cloud::LasCloud;
 use crate::error::{ErrorKind, Format, IoError, KindResult};
 
+mod guard;
+
 /// Points decoded per batch: bounds memory use by what the file really holds, whatever
 /// its header claims.
 const BATCH: u64 = 65_536;
@@ -30,7 +32,25 @@ pub fn parse_las(bytes: &[u8]) -> Result<LasCloud, IoError> {
     decode(Cursor::new(bytes.to_vec())).map_err(|k| IoError::new(Format::Las, k))
 }
 
-fn decode<R: Read + Seek + Send + Sync + 'static>(read: R) -> KindResult<LasCloud> {
+/// Decodes with the `las` crate, turning a panic of its LAZ decoder on corrupt data (seen
+/// when fuzzing: slice bounds in `laz`) into an error; nothing of the decoder's state
+/// survives the call.
+fn decode<R: Read + Seek + Send + Sync + 'static>(mut read: R) -> KindResult<LasCloud> {
+    guard::check_claimed_sizes(&mut read)?;
+    std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| decode_unguarded(read)))
+        .unwrap_or_else(|payload| {
+            let message = payload
+                .downcast_ref::<&str>()
+                .map(|s| (*s).to_owned())
+                .or_else(|| payload.downcast_ref::<String>().cloned())
+                .unwrap_or_default();
+            Err(ErrorKind::Decoder(format!(
+                "the LAS/LAZ decoder failed on corrupt data ({message})"
+            )))
+        })
+}
+
+fn decode_unguarded<R: Read + Seek + Send + Sync + 'static>(read: R) -> KindResult<LasCloud> {
     let las_err = |e: las::Error| ErrorKind::Decoder(e.to_string());
     let mut reader = las::Reader::new(read).map_err(las_err)?;
     let total = reader.header().number_of_points();
