@@ -8,6 +8,7 @@
 //! explicit, caller-chosen linear range: an approximation for exercising the pipeline, not a
 //! measurement.
 
+use std::collections::HashMap;
 use std::io::Cursor;
 use std::path::Path;
 
@@ -131,6 +132,8 @@ fn decode(bytes: &[u8]) -> KindResult<ColorizedDepth> {
     let (width, height) = (frame.width as usize, frame.height as usize);
     let mut off_map = 0usize;
     let mut coloured = 0usize;
+    // Pictures hold a few hundred distinct colours: project each once.
+    let mut seen: HashMap<[u8; 3], (f32, f32)> = HashMap::new();
     let data: Vec<f32> = buf[..frame.buffer_size()]
         .chunks_exact(3)
         .map(|c| {
@@ -138,7 +141,10 @@ fn decode(bytes: &[u8]) -> KindResult<ColorizedDepth> {
                 return f32::NAN;
             }
             coloured += 1;
-            let (t, dist) = jet_position([f32::from(c[0]), f32::from(c[1]), f32::from(c[2])]);
+            let key = [c[0], c[1], c[2]];
+            let (t, dist) = *seen.entry(key).or_insert_with(|| {
+                jet_position([f32::from(c[0]), f32::from(c[1]), f32::from(c[2])])
+            });
             if dist > MAX_COLOR_DISTANCE {
                 off_map += 1;
             }

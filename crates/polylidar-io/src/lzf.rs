@@ -85,12 +85,18 @@ pub fn decompress(input: &[u8], expected_len: usize) -> Result<Vec<u8>, ErrorKin
                 return Err(corrupt(start, "output longer than the declared size"));
             }
             let from = out.len() - distance;
-            if distance >= len {
-                out.extend_from_within(from..from + len);
+            if distance == 1 {
+                let byte = out[from];
+                out.resize(out.len() + len, byte);
             } else {
-                for k in from..from + len {
-                    let byte = out[k];
-                    out.push(byte);
+                // An overlapping copy repeats the last `distance` bytes: copy in steps that
+                // never read past what has been written.
+                let (mut src, mut left) = (from, len);
+                while left > 0 {
+                    let step = left.min(distance);
+                    out.extend_from_within(src..src + step);
+                    src += step;
+                    left -= step;
                 }
             }
         }
@@ -177,6 +183,13 @@ mod tests {
         // literal "abc", then a reference of length 6 at distance 3 (overlapping copy).
         let stream = [2, b'a', b'b', b'c', (4 << 5), 2];
         assert_eq!(decompress(&stream, 9).unwrap(), b"abcabcabc");
+        // A run of one byte: distance 1, length 5.
+        assert_eq!(decompress(&[0, b'z', 3 << 5, 0], 6).unwrap(), b"zzzzzz");
+        // Distance 2, length 7 (odd, so the last step is partial).
+        assert_eq!(
+            decompress(&[1, b'x', b'y', 5 << 5, 1], 9).unwrap(),
+            b"xyxyxyxyx"
+        );
     }
 
     #[test]
