@@ -38,6 +38,7 @@ mod cloud;
 mod depth;
 mod error;
 mod mesh;
+mod rightcut;
 mod triangle_map;
 mod view;
 

@@ -1,0 +1,423 @@
+//! Right-cut half-edge meshing of organized point clouds (Polylidar3D §4.2, Alg. 1–2).
+//!
+//! Two passes over the cell rows, both parallel with rayon:
+//!
+//! 1. classify every cell: which of its two triangles have three valid vertices and a
+//!    well-defined normal (one byte per cell), and count them per row;
+//! 2. after a prefix sum over the row counts (the first mesh triangle of every row), write
+//!    each row's triangles, twins, normals and map entries into its own disjoint slice of
+//!    the outputs. Twins come from the neighbouring cells' classes and running counts in
+//!    the rows above and below: no lookups, no hashing. The outputs are pre-filled in
+//!    parallel (see [`filled`]) so that page faults do not serialise the work.
+//!
+//! Every output element depends only on the input, so the result is identical at any
+//! thread count.
+
+use halfedge_mesh::{NO_TWIN, cross_normal};
+use rayon::prelude::*;
+
+use crate::triangle_map::{NO_TRIANGLE, TriangleMap};
+use crate::{OpcError, OpcMeshOptions, OrganizedPointCloudView, is_valid};
+
+/// Whether pass 2 copies the points into a new vertex array.
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Vertices {
+    /// Copy the borrowed points into a new vertex array.
+    Copy,
+    /// Leave the vertices to the caller, who owns the points.
+    Move,
+}
+
+/// The mesh arrays and the triangle map, before assembly.
+pub(crate) struct Parts {
+    /// The copied points, or empty when they are moved.
+    pub(crate) vertices: Vec<[f64; 3]>,
+    pub(crate) triangles: Vec<[u32; 3]>,
+    pub(crate) halfedges: Vec<u32>,
+    pub(crate) normals: Vec<[f64; 3]>,
+    pub(crate) triangle_map: TriangleMap,
+}
+
+/// Class bit: the cell's first (upper-right) triangle exists.
+const FIRST: u8 = 1;
+/// Class bit: the cell's second (lower-left) triangle exists.
+const SECOND: u8 = 2;
+
+/// Triangles in a cell of this class (0, 1 or 2).
+#[inline]
+fn count(class: u8) -> u32 {
+    u32::from(class & FIRST) + u32::from(class >> 1)
+}
+
+/// The unnormalised normal of triangle `[a, b, c]` and whether it can be normalised.
+#[inline]
+fn normal_of(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> ([f64; 3], f64) {
+    let n = cross_normal(a, b, c);
+    (n, n[0] * n[0] + n[1] * n[1] + n[2] * n[2])
+}
+
+/// Whether a squared normal length gives a finite unit normal.
+#[inline]
+fn normalisable(len2: f64) -> bool {
+    (f64::MIN_POSITIVE..f64::INFINITY).contains(&len2)
+}
+
+/// The class of cell `(·, v)` between point rows `top` and `bottom`.
+#[inline]
+fn classify(top: &[[f64; 3]], bottom: &[[f64; 3]], v: usize, valid: [bool; 4]) -> u8 {
+    let [v1, v2, v3, v4] = valid;
+    let (p1, p2, p3, p4) = (top[v], top[v + 1], bottom[v + 1], bottom[v]);
+    let mut class = 0;
+    if v1 && v3 {
+        if v2 && normalisable(normal_of(p3, p2, p1).1) {
+            class |= FIRST;
+        }
+        if v4 && normalisable(normal_of(p1, p4, p3).1) {
+            class |= SECOND;
+        }
+    }
+    class
+}
+
+/// Pass 1 for one cell row: classes of its cells, and their triangle count.
+fn classify_row(top: &[[f64; 3]], bottom: &[[f64; 3]], classes: &mut [u8]) -> u32 {
+    let mut total = 0;
+    let (mut left_top, mut left_bottom) = (is_valid(&top[0]), is_valid(&bottom[0]));
+    for (v, class) in classes.iter_mut().enumerate() {
+        let (right_top, right_bottom) = (is_valid(&top[v + 1]), is_valid(&bottom[v + 1]));
+        *class = classify(
+            top,
+            bottom,
+            v,
+            [left_top, right_top, right_bottom, left_bottom],
+        );
+        total += count(*class);
+        (left_top, left_bottom) = (right_top, right_bottom);
+    }
+    total
+}
+
+/// One cell row's share of the outputs, for pass 2.
+struct RowOut<'a> {
+    row: usize,
+    /// Global index of the row's first triangle.
+    first: u32,
+    triangles: &'a mut [[u32; 3]],
+    /// The twins of each triangle's three half-edges.
+    halfedges: &'a mut [[u32; 3]],
+    /// Empty unless normals are computed.
+    normals: &'a mut [[f64; 3]],
+    /// The row's map entries, two per cell.
+    map: &'a mut [[u32; 2]],
+}
+
+/// Everything pass 2 reads.
+struct Pass2<'a> {
+    points: &'a [[f64; 3]],
+    cols: usize,
+    cell_rows: usize,
+    classes: &'a [u8],
+    /// First triangle of every cell row, and the total at the end.
+    offsets: &'a [u32],
+}
+
+impl Pass2<'_> {
+    fn classes_of(&self, row: usize) -> &[u8] {
+        let cell_cols = self.cols - 1;
+        &self.classes[row * cell_cols..][..cell_cols]
+    }
+
+    /// A neighbouring cell row's classes and first triangle, or none past the border.
+    fn neighbour(&self, row: Option<usize>) -> (Option<&[u8]>, u32) {
+        match row.filter(|&r| r < self.cell_rows) {
+            Some(r) => (Some(self.classes_of(r)), self.offsets[r]),
+            None => (None, 0),
+        }
+    }
+
+    /// Writes one cell row's triangles, twins, normals, map entries and vertices.
+    fn write_row(&self, out: RowOut<'_>) {
+        let RowOut {
+            row: u,
+            first,
+            triangles,
+            halfedges,
+            normals,
+            map,
+        } = out;
+        let cols = self.cols;
+        let top = &self.points[u * cols..][..cols];
+        let bottom = &self.points[(u + 1) * cols..][..cols];
+        let classes = self.classes_of(u);
+        let (above, mut next_above) = self.neighbour(u.checked_sub(1));
+        let (below, mut next_below) = self.neighbour(Some(u + 1));
+        let with_normals = !normals.is_empty();
+        let row_start = (u * cols) as u32;
+        let mut next = first;
+        let mut left_first = NO_TWIN;
+        let mut local = 0;
+        for (v, (&class, map)) in classes.iter().zip(map.iter_mut()).enumerate() {
+            let class_above = above.map_or(0, |a| a[v]);
+            let class_below = below.map_or(0, |b| b[v]);
+            let class_right = classes.get(v + 1).copied().unwrap_or(0);
+            let after = next + count(class);
+            let p1 = row_start + v as u32;
+            let p4 = p1 + cols as u32;
+            let (p2, p3) = (p1 + 1, p4 + 1);
+            let first_t = next;
+            *map = [NO_TRIANGLE; 2];
+            if class & FIRST != 0 {
+                triangles[local] = [p3, p2, p1];
+                let he = &mut halfedges[local];
+                // Edge p3 → p2: the second triangle of the cell to the right.
+                he[0] = if class_right & SECOND != 0 {
+                    3 * (after + u32::from(class_right & FIRST))
+                } else {
+                    NO_TWIN
+                };
+                // Edge p2 → p1: the second triangle of the cell above.
+                he[1] = if class_above & SECOND != 0 {
+                    3 * (next_above + u32::from(class_above & FIRST)) + 1
+                } else {
+                    NO_TWIN
+                };
+                // Diagonal p1 → p3: this cell's second triangle.
+                he[2] = if class & SECOND != 0 {
+                    3 * (first_t + 1) + 2
+                } else {
+                    NO_TWIN
+                };
+                if with_normals {
+                    normals[local] = unit(normal_of(bottom[v + 1], top[v + 1], top[v]));
+                }
+                map[0] = first_t;
+                local += 1;
+            }
+            if class & SECOND != 0 {
+                let second_t = first_t + u32::from(class & FIRST);
+                triangles[local] = [p1, p4, p3];
+                let he = &mut halfedges[local];
+                // Edge p1 → p4: the first triangle of the cell to the left.
+                he[0] = left_first;
+                // Edge p4 → p3: the first triangle of the cell below.
+                he[1] = if class_below & FIRST != 0 {
+                    3 * next_below + 1
+                } else {
+                    NO_TWIN
+                };
+                // Diagonal p3 → p1: this cell's first triangle.
+                he[2] = if class & FIRST != 0 {
+                    3 * first_t + 2
+                } else {
+                    NO_TWIN
+                };
+                if with_normals {
+                    normals[local] = unit(normal_of(top[v], bottom[v], bottom[v + 1]));
+                }
+                map[1] = second_t;
+                local += 1;
+            }
+            left_first = if class & FIRST != 0 {
+                3 * first_t
+            } else {
+                NO_TWIN
+            };
+            next = after;
+            next_above += count(class_above);
+            next_below += count(class_below);
+        }
+        debug_assert_eq!(local, triangles.len());
+    }
+}
+
+/// The unit normal of a normalisable cross product.
+#[inline]
+fn unit((n, len2): ([f64; 3], f64)) -> [f64; 3] {
+    let inv = 1.0 / len2.sqrt();
+    [n[0] * inv, n[1] * inv, n[2] * inv]
+}
+
+/// Checks that the half-edges of a `rows × cols` grid fit `u32` indices below [`NO_TWIN`].
+fn check_mesh_size(rows: usize, cols: usize) -> Result<(), OpcError> {
+    let halfedges = (rows - 1)
+        .checked_mul(cols - 1)
+        .and_then(|cells| cells.checked_mul(6));
+    match halfedges {
+        Some(h) if h <= NO_TWIN as usize => Ok(()),
+        _ => Err(OpcError::TooLarge { rows, cols }),
+    }
+}
+
+/// Meshes a cloud: pass 1, prefix sum, pass 2.
+pub(crate) fn mesh_grid(
+    view: OrganizedPointCloudView<'_>,
+    vertices: Vertices,
+    options: &OpcMeshOptions,
+) -> Result<Parts, OpcError> {
+    let (rows, cols) = (view.rows(), view.cols());
+    check_mesh_size(rows, cols)?;
+    let points = view.points();
+    let (cell_rows, cell_cols) = (rows - 1, cols - 1);
+
+    let mut classes = vec![0u8; cell_rows * cell_cols];
+    let classify = |(u, classes): (usize, &mut [u8])| {
+        classify_row(
+            &points[u * cols..][..cols],
+            &points[(u + 1) * cols..][..cols],
+            classes,
+        )
+    };
+    let counts: Vec<u32> = if options.parallel {
+        classes
+            .par_chunks_mut(cell_cols)
+            .enumerate()
+            .map(classify)
+            .collect()
+    } else {
+        classes
+            .chunks_mut(cell_cols)
+            .enumerate()
+            .map(classify)
+            .collect()
+    };
+    let mut offsets = Vec::with_capacity(cell_rows + 1);
+    let mut total = 0u32;
+    offsets.push(total);
+    for &n in &counts {
+        total += n;
+        offsets.push(total);
+    }
+    if total == 0 {
+        return Err(OpcError::NoTriangles {
+            valid_points: view.num_valid(),
+            points: points.len(),
+        });
+    }
+
+    let num_triangles = total as usize;
+    let parallel = options.parallel;
+    let mut triangles = filled(num_triangles, parallel);
+    let mut halfedges = filled(num_triangles, parallel);
+    let mut normals = if options.compute_normals {
+        filled(num_triangles, parallel)
+    } else {
+        Vec::new()
+    };
+    let mut map = filled(cell_rows * cell_cols, parallel);
+
+    let mut jobs = Vec::with_capacity(cell_rows);
+    let (mut t_rest, mut h_rest) = (triangles.as_mut_slice(), halfedges.as_mut_slice());
+    let (mut n_rest, mut m_rest) = (normals.as_mut_slice(), map.as_mut_slice());
+    for (u, &n) in counts.iter().enumerate() {
+        let n = n as usize;
+        let n_normals = if options.compute_normals { n } else { 0 };
+        let triangles;
+        let halfedges;
+        let normals;
+        let map;
+        (triangles, t_rest) = std::mem::take(&mut t_rest).split_at_mut(n);
+        (halfedges, h_rest) = std::mem::take(&mut h_rest).split_at_mut(n);
+        (normals, n_rest) = std::mem::take(&mut n_rest).split_at_mut(n_normals);
+        (map, m_rest) = std::mem::take(&mut m_rest).split_at_mut(cell_cols);
+        jobs.push(RowOut {
+            row: u,
+            first: offsets[u],
+            triangles,
+            halfedges,
+            normals,
+            map,
+        });
+    }
+
+    let pass2 = Pass2 {
+        points,
+        cols,
+        cell_rows,
+        classes: &classes,
+        offsets: &offsets,
+    };
+    if options.parallel {
+        jobs.into_par_iter().for_each(|job| pass2.write_row(job));
+    } else {
+        jobs.into_iter().for_each(|job| pass2.write_row(job));
+    }
+
+    let copied = match (vertices, parallel) {
+        (Vertices::Move, _) => Vec::new(),
+        (Vertices::Copy, true) => points.par_iter().copied().collect(),
+        (Vertices::Copy, false) => points.to_vec(),
+    };
+    Ok(Parts {
+        vertices: copied,
+        triangles,
+        halfedges: flatten(halfedges),
+        normals,
+        triangle_map: TriangleMap::from_vec(cell_rows, cell_cols, flatten(map)),
+    })
+}
+
+/// `n` default values. In parallel, rayon writes them from several threads, so that the
+/// first touch of every page (the kernel's page fault and zeroing) is spread over the
+/// threads too, where `vec!` would do it all on this one.
+fn filled<T: Copy + Default + Send + Sync>(n: usize, parallel: bool) -> Vec<T> {
+    if parallel {
+        let mut items = Vec::with_capacity(n);
+        items.par_extend(rayon::iter::repeat_n(T::default(), n));
+        items
+    } else {
+        vec![T::default(); n]
+    }
+}
+
+/// `[u32; N]` items as a flat vector, reusing the allocation.
+fn flatten<const N: usize>(items: Vec<[u32; N]>) -> Vec<u32>
+where
+    [u32; N]: bytemuck::NoUninit,
+{
+    bytemuck::allocation::try_cast_vec(items)
+        .unwrap_or_else(|(_, items)| items.into_iter().flatten().collect())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn mesh_size_limit() {
+        // 6 (rows − 1)(cols − 1) half-edges must stay at or below u32::MAX.
+        assert_eq!(check_mesh_size(2, 715_827_883), Ok(()));
+        assert_eq!(
+            check_mesh_size(2, 715_827_884),
+            Err(OpcError::TooLarge {
+                rows: 2,
+                cols: 715_827_884
+            })
+        );
+        assert_eq!(check_mesh_size(20_000, 30_000), Ok(()));
+        assert!(check_mesh_size(40_000, 40_000).is_err());
+        assert!(check_mesh_size(usize::MAX, usize::MAX).is_err());
+    }
+
+    #[test]
+    fn flatten_and_filled() {
+        assert_eq!(flatten(vec![[1, 2, 3], [4, 5, 6]]), vec![1, 2, 3, 4, 5, 6]);
+        let mut odd = Vec::with_capacity(3);
+        odd.push([7u32, 8]);
+        assert_eq!(flatten(odd), vec![7, 8]);
+        assert_eq!(filled::<[u32; 2]>(5, true), vec![[0, 0]; 5]);
+        assert_eq!(filled::<u8>(3, false), vec![0; 3]);
+    }
+
+    #[test]
+    fn classes_and_counts() {
+        let p = |x: f64, y: f64| [x, y, 1.0];
+        let nan = [f64::NAN; 3];
+        let top = [p(0.0, 0.0), p(1.0, 0.0), nan, p(3.0, 0.0)];
+        let bottom = [p(0.0, 1.0), p(1.0, 1.0), p(2.0, 1.0), p(3.0, 1.0)];
+        let mut classes = [0u8; 3];
+        assert_eq!(classify_row(&top, &bottom, &mut classes), 3);
+        // Cell 1: top-right pixel invalid, so only the second triangle; cell 2: top-left
+        // invalid, so neither.
+        assert_eq!(classes, [FIRST | SECOND, SECOND, 0]);
+    }
+}
