@@ -296,3 +296,7 @@ fn frame_is_mirrored(mesh: &HalfEdgeMesh, t: u32, project: &impl Fn(u32) -> [f64
     let [a, b, c] = tri.map(project);
     (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]) < 0.0
 }
+
+#[doc = include_str!("../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;

@@ -39,3 +39,7 @@ pub use diagnostics::{Counts, Diagnostics, Timings};
 pub use error::PolylidarError;
 pub use halfedge_mesh::{HalfEdgeMesh, MeshError};
 pub use pipeline::{ExtractedPolygon, Extraction, PlaneFrame, Polylidar};
+
+#[doc = include_str!("../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;
