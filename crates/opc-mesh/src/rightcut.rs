@@ -7,8 +7,9 @@
 //! 2. after a prefix sum over the row counts (the first mesh triangle of every row), write
 //!    each row's triangles, twins, normals and map entries into its own disjoint slice of
 //!    the outputs. Twins come from the neighbouring cells' classes and running counts in
-//!    the rows above and below: no lookups, no hashing. The outputs are pre-filled in
-//!    parallel (see [`filled`]) so that page faults do not serialise the work.
+//!    the rows above and below: no lookups, no hashing. New output storage is pre-filled
+//!    in parallel (see [`sized`]) so that page faults do not serialise the work; storage
+//!    handed back from an earlier mesh is written over.
 //!
 //! Every output element depends only on the input, so the result is identical at any
 //! thread count.
@@ -19,13 +20,16 @@ use rayon::prelude::*;
 use crate::triangle_map::{NO_TRIANGLE, TriangleMap};
 use crate::{OpcError, OpcMeshOptions, OrganizedPointCloudView, is_valid};
 
-/// Whether pass 2 copies the points into a new vertex array.
-#[derive(Clone, Copy, PartialEq, Eq)]
-pub(crate) enum Vertices {
-    /// Copy the borrowed points into a new vertex array.
-    Copy,
-    /// Leave the vertices to the caller, who owns the points.
-    Move,
+/// Storage for the mesh arrays: empty vectors for a new mesh, or the arrays of an earlier
+/// mesh to write over.
+#[derive(Default)]
+pub(crate) struct Buffers {
+    /// Where to copy the points, or `None` when the caller moves them into the mesh.
+    pub(crate) vertices: Option<Vec<[f64; 3]>>,
+    pub(crate) triangles: Vec<[u32; 3]>,
+    pub(crate) halfedges: Vec<[u32; 3]>,
+    pub(crate) normals: Vec<[f64; 3]>,
+    pub(crate) map: Vec<[u32; 2]>,
 }
 
 /// The mesh arrays and the triangle map, before assembly.
@@ -251,7 +255,7 @@ fn check_mesh_size(rows: usize, cols: usize) -> Result<(), OpcError> {
 /// Meshes a cloud: pass 1, prefix sum, pass 2.
 pub(crate) fn mesh_grid(
     view: OrganizedPointCloudView<'_>,
-    vertices: Vertices,
+    buffers: Buffers,
     options: &OpcMeshOptions,
 ) -> Result<Parts, OpcError> {
     let (rows, cols) = (view.rows(), view.cols());
@@ -296,14 +300,15 @@ pub(crate) fn mesh_grid(
 
     let num_triangles = total as usize;
     let parallel = options.parallel;
-    let mut triangles = filled(num_triangles, parallel);
-    let mut halfedges = filled(num_triangles, parallel);
-    let mut normals = if options.compute_normals {
-        filled(num_triangles, parallel)
+    let n_normals = if options.compute_normals {
+        num_triangles
     } else {
-        Vec::new()
+        0
     };
-    let mut map = filled(cell_rows * cell_cols, parallel);
+    let mut triangles = sized(buffers.triangles, num_triangles, parallel);
+    let mut halfedges = sized(buffers.halfedges, num_triangles, parallel);
+    let mut normals = sized(buffers.normals, n_normals, parallel);
+    let mut map = sized(buffers.map, cell_rows * cell_cols, parallel);
 
     let mut jobs = Vec::with_capacity(cell_rows);
     let (mut t_rest, mut h_rest) = (triangles.as_mut_slice(), halfedges.as_mut_slice());
@@ -342,13 +347,10 @@ pub(crate) fn mesh_grid(
         jobs.into_iter().for_each(|job| pass2.write_row(job));
     }
 
-    let copied = match (vertices, parallel) {
-        (Vertices::Move, _) => Vec::new(),
-        (Vertices::Copy, true) => points.par_iter().copied().collect(),
-        (Vertices::Copy, false) => points.to_vec(),
-    };
     Ok(Parts {
-        vertices: copied,
+        vertices: buffers
+            .vertices
+            .map_or_else(Vec::new, |into| copy_points(into, points, parallel)),
         triangles,
         halfedges: flatten(halfedges),
         normals,
@@ -356,17 +358,53 @@ pub(crate) fn mesh_grid(
     })
 }
 
-/// `n` default values. In parallel, rayon writes them from several threads, so that the
-/// first touch of every page (the kernel's page fault and zeroing) is spread over the
-/// threads too, where `vec!` would do it all on this one.
-fn filled<T: Copy + Default + Send + Sync>(n: usize, parallel: bool) -> Vec<T> {
+/// `items` cut or grown to `n` elements; the kept ones are left as they are (pass 2
+/// overwrites every element). In parallel, rayon writes the new elements from several
+/// threads, so that the first touch of every new page (the kernel's page fault and zeroing)
+/// is spread over the threads too, where `vec!` would do it all on this one.
+fn sized<T: Copy + Default + Send + Sync>(mut items: Vec<T>, n: usize, parallel: bool) -> Vec<T> {
+    items.truncate(n);
     if parallel {
-        let mut items = Vec::with_capacity(n);
-        items.par_extend(rayon::iter::repeat_n(T::default(), n));
-        items
+        let missing = n - items.len();
+        items.par_extend(rayon::iter::repeat_n(T::default(), missing));
     } else {
-        vec![T::default(); n]
+        items.resize(n, T::default());
     }
+    items
+}
+
+/// Elements per parallel copy job.
+const COPY_CHUNK: usize = 1 << 14;
+
+/// The points copied into `into` (an empty vector or an earlier mesh's vertices).
+fn copy_points(mut into: Vec<[f64; 3]>, points: &[[f64; 3]], parallel: bool) -> Vec<[f64; 3]> {
+    match (into.is_empty(), parallel) {
+        (true, true) => points.par_iter().copied().collect(),
+        (true, false) => points.to_vec(),
+        (false, _) => {
+            into.truncate(points.len());
+            let kept = into.len();
+            into.extend_from_slice(&points[kept..]);
+            if parallel {
+                into[..kept]
+                    .par_chunks_mut(COPY_CHUNK)
+                    .zip(points[..kept].par_chunks(COPY_CHUNK))
+                    .for_each(|(to, from)| to.copy_from_slice(from));
+            } else {
+                into[..kept].copy_from_slice(&points[..kept]);
+            }
+            into
+        }
+    }
+}
+
+/// The inverse of [`flatten`]: flat `u32`s back as `[u32; N]` items, reusing the allocation
+/// where its capacity allows, or an empty vector.
+pub(crate) fn unflatten<const N: usize>(flat: Vec<u32>) -> Vec<[u32; N]>
+where
+    [u32; N]: bytemuck::AnyBitPattern,
+{
+    bytemuck::allocation::try_cast_vec(flat).unwrap_or_default()
 }
 
 /// `[u32; N]` items as a flat vector, reusing the allocation.
@@ -399,13 +437,25 @@ mod tests {
     }
 
     #[test]
-    fn flatten_and_filled() {
+    fn buffer_helpers() {
         assert_eq!(flatten(vec![[1, 2, 3], [4, 5, 6]]), vec![1, 2, 3, 4, 5, 6]);
         let mut odd = Vec::with_capacity(3);
         odd.push([7u32, 8]);
         assert_eq!(flatten(odd), vec![7, 8]);
-        assert_eq!(filled::<[u32; 2]>(5, true), vec![[0, 0]; 5]);
-        assert_eq!(filled::<u8>(3, false), vec![0; 3]);
+        assert_eq!(
+            unflatten::<3>(vec![1, 2, 3, 4, 5, 6]),
+            vec![[1, 2, 3], [4, 5, 6]]
+        );
+        assert_eq!(unflatten::<3>(vec![1, 2]), Vec::<[u32; 3]>::new());
+        for parallel in [false, true] {
+            assert_eq!(sized::<[u32; 2]>(Vec::new(), 5, parallel), vec![[0, 0]; 5]);
+            assert_eq!(sized(vec![1u8, 2, 3], 2, parallel), vec![1, 2]);
+            assert_eq!(sized(vec![1u8, 2], 4, parallel), vec![1, 2, 0, 0]);
+            let points = [[1.0, 2.0, 3.0], [4.0, 5.0, 6.0], [7.0, 8.0, 9.0]];
+            assert_eq!(copy_points(Vec::new(), &points, parallel), points);
+            assert_eq!(copy_points(vec![[0.0; 3]], &points, parallel), points);
+            assert_eq!(copy_points(vec![[0.0; 3]; 5], &points, parallel), points);
+        }
     }
 
     #[test]

@@ -165,6 +165,22 @@ proptest! {
     }
 
     #[test]
+    fn reusing_an_earlier_mesh_changes_nothing(
+        first in arb_cloud(),
+        second in arb_cloud(),
+        normals in any::<[bool; 2]>(),
+        parallel in any::<bool>(),
+    ) {
+        let options = |n: bool| OpcMeshOptions::new().with_compute_normals(n).with_parallel(parallel);
+        let (Ok(previous), Ok(fresh)) = (first.mesh(&options(normals[0])), second.mesh(&options(normals[1]))) else {
+            return Ok(());
+        };
+        let reused = second.mesh_reusing(&options(normals[1]), previous).expect("reused");
+        reused.mesh.sanity_check().expect("sanity check");
+        prop_assert!(same_mesh(&reused, &fresh));
+    }
+
+    #[test]
     fn triangle_map_round_trips(cloud in arb_cloud()) {
         let Ok(opc) = cloud.mesh(&OpcMeshOptions::default()) else { return Ok(()) };
         let map = &opc.triangle_map;
@@ -232,6 +248,33 @@ fn identical_at_any_thread_count() {
         let opc = pool.install(|| cloud.mesh(&options)).expect("parallel");
         assert!(same_mesh(&opc, &reference), "{threads} threads");
     }
+}
+
+#[test]
+fn same_size_frames_reuse_every_array() {
+    let options = OpcMeshOptions::default();
+    let mut frame = holey_cloud(60, 80);
+    let mut opc = frame.mesh(&options).expect("mesh");
+    let addresses = |opc: &OpcMesh| {
+        [
+            opc.mesh.vertices().as_ptr() as usize,
+            opc.mesh.triangles().as_ptr() as usize,
+            opc.mesh.halfedges().as_ptr() as usize,
+            opc.mesh
+                .triangle_normals()
+                .map_or(0, |n| n.as_ptr() as usize),
+            opc.triangle_map.as_slice().as_ptr() as usize,
+        ]
+    };
+    let before = addresses(&opc);
+    for step in 1..4 {
+        for p in frame.points_mut() {
+            p[2] += 0.01 * step as f64;
+        }
+        opc = frame.mesh_reusing(&options, opc).expect("reuse");
+        check_against_oracles(&frame, &opc);
+    }
+    assert_eq!(addresses(&opc), before);
 }
 
 #[test]
