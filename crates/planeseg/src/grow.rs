@@ -1,0 +1,297 @@
+//! Region growing per dominant normal (Alg. 5) with overlapped polygon extraction.
+
+use std::sync::atomic::{AtomicU32, Ordering::Relaxed};
+use std::sync::mpsc;
+
+use halfedge_mesh::{HalfEdgeMesh, NO_TWIN, cross_normal};
+use polyextract::{Extractor, Polygon};
+
+use crate::groups::{GroupCounts, NO_GROUP, assign_groups};
+use crate::{SegmentError, SegmentationConfig};
+
+/// Label of a triangle in no segment.
+const UNLABELLED: u32 = u32::MAX;
+
+/// A planar segment and its polygon.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PlanarSegment {
+    /// Index of the dominant normal the segment was grown for.
+    pub group: u32,
+    /// The triangle the segment was grown from (its smallest triangle index).
+    pub seed: u32,
+    /// The segment's triangles, in growing order.
+    pub triangles: Vec<u32>,
+    /// Area-weighted mean triangle normal (unit): the geometric plane's normal.
+    pub normal: [f64; 3],
+    /// Area-weighted centroid of the triangles.
+    pub centroid: [f64; 3],
+    /// The polygon, as point indices, extracted in the geometric plane (shell
+    /// counter-clockwise seen from `normal`).
+    pub polygon: Polygon,
+    /// Holes dropped for having fewer than `min_hole_vertices` vertices.
+    pub holes_too_small: usize,
+}
+
+/// What segmentation found, stage by stage.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct SegmentationCounts {
+    /// Group assignment.
+    pub groups: GroupCounts,
+    /// Segments grown, of any size.
+    pub segments_grown: usize,
+    /// Segments dropped for having fewer than `min_triangles` triangles.
+    pub segments_too_small: usize,
+    /// Holes kept over all polygons.
+    pub holes: usize,
+    /// Holes dropped for having fewer than `min_hole_vertices` vertices.
+    pub holes_too_small: usize,
+}
+
+/// The result of [`segment`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct Segmentation {
+    /// The group of every triangle ([`NO_GROUP`] if dropped).
+    pub groups: Vec<u32>,
+    /// Segments with their polygons, sorted by (group, seed).
+    pub segments: Vec<PlanarSegment>,
+    /// Counts per stage.
+    pub counts: SegmentationCounts,
+}
+
+/// Segments `mesh` by the `dominant` unit normals and extracts a polygon per segment.
+///
+/// # Errors
+/// As [`assign_groups`], and [`SegmentError::Extract`] if a boundary cannot be followed.
+pub fn segment(
+    mesh: &HalfEdgeMesh,
+    dominant: &[[f64; 3]],
+    config: &SegmentationConfig,
+) -> Result<Segmentation, SegmentError> {
+    let (groups, group_counts) = assign_groups(mesh, dominant, config)?;
+
+    // Bucket the triangles by group (counting sort), keeping triangle order.
+    let mut offsets = vec![0usize; dominant.len() + 1];
+    for &g in &groups {
+        if g != NO_GROUP {
+            offsets[g as usize + 1] += 1;
+        }
+    }
+    for i in 1..offsets.len() {
+        offsets[i] += offsets[i - 1];
+    }
+    let mut order = vec![0u32; offsets[dominant.len()]];
+    let mut fill = offsets.clone();
+    for (t, &g) in groups.iter().enumerate() {
+        if g != NO_GROUP {
+            order[fill[g as usize]] = t as u32;
+            fill[g as usize] += 1;
+        }
+    }
+
+    let labels: Vec<AtomicU32> = (0..groups.len())
+        .map(|_| AtomicU32::new(UNLABELLED))
+        .collect();
+    let labels = labels.as_slice();
+    let (sender, receiver) = mpsc::channel();
+    let grower = Grower {
+        mesh,
+        groups: &groups,
+        labels,
+        config,
+    };
+    rayon::scope(|scope| {
+        for (g, normal) in dominant.iter().enumerate() {
+            let bucket = &order[offsets[g]..offsets[g + 1]];
+            if bucket.is_empty() {
+                continue;
+            }
+            let sender = sender.clone();
+            let grower = &grower;
+            scope.spawn(move |scope| {
+                let mut grown = 0;
+                for &seed in bucket {
+                    if labels[seed as usize].load(Relaxed) != UNLABELLED {
+                        continue;
+                    }
+                    let triangles = grower.grow(g as u32, *normal, seed);
+                    grown += 1;
+                    if triangles.len() < config.min_triangles.max(1) {
+                        continue;
+                    }
+                    let sender = sender.clone();
+                    scope.spawn(move |_| {
+                        let result = grower.polygon(g as u32, seed, triangles);
+                        // The receiver outlives the scope, so sending cannot fail.
+                        let _ = sender.send(Outcome::Segment(result));
+                    });
+                }
+                let _ = sender.send(Outcome::Grown(grown));
+            });
+        }
+    });
+    drop(sender);
+
+    let mut counts = SegmentationCounts {
+        groups: group_counts,
+        ..SegmentationCounts::default()
+    };
+    let mut results = Vec::new();
+    for outcome in receiver {
+        match outcome {
+            Outcome::Grown(n) => counts.segments_grown += n,
+            Outcome::Segment(result) => results.push(result),
+        }
+    }
+    let key = |r: &Result<PlanarSegment, (u32, u32, SegmentError)>| match r {
+        Ok(s) => (s.group, s.seed),
+        Err((g, s, _)) => (*g, *s),
+    };
+    results.sort_by_key(key);
+    let mut segments = Vec::with_capacity(results.len());
+    for result in results {
+        let segment = result.map_err(|(_, _, e)| e)?;
+        counts.holes += segment.polygon.holes.len();
+        counts.holes_too_small += segment.holes_too_small;
+        segments.push(segment);
+    }
+    counts.segments_too_small = counts.segments_grown - segments.len();
+    Ok(Segmentation {
+        groups,
+        segments,
+        counts,
+    })
+}
+
+/// A message from a growing or extraction task.
+enum Outcome {
+    /// A group task finished after growing this many segments.
+    Grown(usize),
+    /// A segment with its polygon, or the failure keyed by (group, seed).
+    Segment(Result<PlanarSegment, (u32, u32, SegmentError)>),
+}
+
+/// Shared, read-mostly state of the growing tasks.
+struct Grower<'a> {
+    mesh: &'a HalfEdgeMesh,
+    groups: &'a [u32],
+    labels: &'a [AtomicU32],
+    config: &'a SegmentationConfig,
+}
+
+impl Grower<'_> {
+    fn centroid(&self, t: u32) -> [f64; 3] {
+        let v = self.mesh.vertices();
+        let [a, b, c] = self.mesh.triangles()[t as usize].map(|i| v[i as usize]);
+        [0, 1, 2].map(|k| (a[k] + b[k] + c[k]) / 3.0)
+    }
+
+    /// Grows the segment of group `g` from `seed` (breadth first over twins), labelling
+    /// its triangles with `seed`. Only this group's task touches this group's labels.
+    fn grow(&self, g: u32, normal: [f64; 3], seed: u32) -> Vec<u32> {
+        let offset = |t: u32| {
+            let c = self.centroid(t);
+            normal[0] * c[0] + normal[1] * c[1] + normal[2] * c[2]
+        };
+        let plane = offset(seed);
+        let z_thresh = self.config.z_thresh;
+        let twins = self.mesh.halfedges();
+        self.labels[seed as usize].store(seed, Relaxed);
+        let mut triangles = vec![seed];
+        let mut next = 0;
+        while next < triangles.len() {
+            let t = triangles[next] as usize;
+            next += 1;
+            for &twin in &twins[3 * t..3 * t + 3] {
+                if twin == NO_TWIN {
+                    continue;
+                }
+                let n = twin / 3;
+                if self.groups[n as usize] != g
+                    || self.labels[n as usize].load(Relaxed) != UNLABELLED
+                    || (z_thresh > 0.0 && (offset(n) - plane).abs() > z_thresh)
+                {
+                    continue;
+                }
+                self.labels[n as usize].store(seed, Relaxed);
+                triangles.push(n);
+            }
+        }
+        triangles
+    }
+
+    /// The segment's geometric plane and polygon.
+    fn polygon(
+        &self,
+        g: u32,
+        seed: u32,
+        triangles: Vec<u32>,
+    ) -> Result<PlanarSegment, (u32, u32, SegmentError)> {
+        let v = self.mesh.vertices();
+        let (mut sum_n, mut sum_c, mut area) = ([0.0; 3], [0.0; 3], 0.0);
+        for &t in &triangles {
+            let [a, b, c] = self.mesh.triangles()[t as usize].map(|i| v[i as usize]);
+            let n = cross_normal(a, b, c);
+            let w = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+            for k in 0..3 {
+                sum_n[k] += n[k];
+                sum_c[k] += w * (a[k] + b[k] + c[k]) / 3.0;
+            }
+            area += w;
+        }
+        let len = (sum_n[0] * sum_n[0] + sum_n[1] * sum_n[1] + sum_n[2] * sum_n[2]).sqrt();
+        let normal = sum_n.map(|c| c / len);
+        let centroid = sum_c.map(|c| c / area);
+        let (e1, e2) = plane_axes(normal);
+        let labels = self.labels;
+        let mut polygon = Extractor::new()
+            .extract(
+                self.mesh,
+                &triangles,
+                |t| labels[t as usize].load(Relaxed) == seed,
+                |i| {
+                    let p = v[i as usize];
+                    [dot(p, e1), dot(p, e2)]
+                },
+            )
+            .map_err(|source| (g, seed, SegmentError::Extract { seed, source }))?;
+        let before = polygon.holes.len();
+        polygon
+            .holes
+            .retain(|h| h.len() >= self.config.min_hole_vertices);
+        Ok(PlanarSegment {
+            group: g,
+            seed,
+            triangles,
+            normal,
+            centroid,
+            holes_too_small: before - polygon.holes.len(),
+            polygon,
+        })
+    }
+}
+
+#[inline]
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+/// Two unit vectors completing the unit `n` to a right-handed orthonormal frame.
+fn plane_axes(n: [f64; 3]) -> ([f64; 3], [f64; 3]) {
+    let axis = if n[0].abs() <= n[1].abs() && n[0].abs() <= n[2].abs() {
+        [1.0, 0.0, 0.0]
+    } else if n[1].abs() <= n[2].abs() {
+        [0.0, 1.0, 0.0]
+    } else {
+        [0.0, 0.0, 1.0]
+    };
+    let d = dot(axis, n);
+    let e1 = [axis[0] - d * n[0], axis[1] - d * n[1], axis[2] - d * n[2]];
+    let l = dot(e1, e1).sqrt();
+    let e1 = e1.map(|c| c / l);
+    let e2 = [
+        n[1] * e1[2] - n[2] * e1[1],
+        n[2] * e1[0] - n[0] * e1[2],
+        n[0] * e1[1] - n[1] * e1[0],
+    ];
+    (e1, e2)
+}
