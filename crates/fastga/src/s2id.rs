@@ -83,8 +83,9 @@ pub fn uv_to_st(u: f64) -> f64 {
 #[inline(always)]
 fn st_to_ij(s: f64) -> u32 {
     const MAX_SIZE: f64 = (1u64 << S2_MAX_LEVEL) as f64;
-    // `as` saturates (NaN → 0), then the clamp keeps s = 1 inside the face.
-    ((MAX_SIZE * s).floor() as u32).min((1 << S2_MAX_LEVEL) - 1)
+    // s ≥ 0, so truncation is the floor; `as` saturates (NaN → 0), and the clamp keeps s = 1
+    // inside the face.
+    ((MAX_SIZE * s) as u32).min((1 << S2_MAX_LEVEL) - 1)
 }
 
 /// The S2 leaf-cell id of the direction `p` (any non-zero length; it is not normalised).
@@ -92,22 +93,45 @@ fn st_to_ij(s: f64) -> u32 {
 /// A zero or NaN vector gives an unspecified id; callers filter those first.
 #[inline(always)]
 pub fn cell_id(p: [f64; 3]) -> u64 {
+    let (f, i, j) = face_ij(p);
+    from_face_ij(f, i, j)
+}
+
+/// The id of the S2 cell at level `4 · steps − 2` (1 ≤ steps ≤ 8) that contains `p`, with the
+/// bits below that level zero: a cheaper key that sorts like [`cell_id`] (the id of any
+/// point is at least the prefix of its own cell and below the next cell's prefix). Each step
+/// is one table lookup; the first covers the two top levels.
+#[inline(always)]
+pub fn cell_id_prefix(p: [f64; 3], steps: u32) -> u64 {
+    let (f, i, j) = face_ij(p);
+    hilbert(f, i, j, steps)
+}
+
+/// Cube face and leaf coordinates of `p`.
+#[inline(always)]
+fn face_ij(p: [f64; 3]) -> (u8, u32, u32) {
     let f = face(p);
     let (ua, us, va, vs, wa) = FACE_AXES[usize::from(f)];
     let w = p[wa];
     let u = us * p[ua] / w;
     let v = vs * p[va] / w;
-    from_face_ij(f, st_to_ij(uv_to_st(u)), st_to_ij(uv_to_st(v)))
+    (f, st_to_ij(uv_to_st(u)), st_to_ij(uv_to_st(v)))
 }
 
 /// The S2 leaf-cell id of face `face` (0–5) and leaf coordinates `i`, `j` (< 2^30).
 #[inline(always)]
 pub fn from_face_ij(face: u8, i: u32, j: u32) -> u64 {
+    hilbert(face, i, j, 2 * LOOKUP_BITS) | 1
+}
+
+/// Face bits and the first `4 · steps − 2` levels of the Hilbert position, shifted into place.
+#[inline(always)]
+fn hilbert(face: u8, i: u32, j: u32, steps: u32) -> u64 {
     let mut position = 0u64;
     let mut bits = u16::from(face) & SWAP_MASK;
     let mask = (1u32 << LOOKUP_BITS) - 1;
     let mut k = 2 * LOOKUP_BITS;
-    while k > 0 {
+    while k > 2 * LOOKUP_BITS - steps {
         k -= 1;
         let i4 = ((i >> (k * LOOKUP_BITS)) & mask) as u16;
         let j4 = ((j >> (k * LOOKUP_BITS)) & mask) as u16;
@@ -115,7 +139,7 @@ pub fn from_face_ij(face: u8, i: u32, j: u32) -> u64 {
         position |= u64::from(bits >> 2) << (2 * LOOKUP_BITS * k);
         bits &= SWAP_MASK | INVERT_MASK;
     }
-    (u64::from(face) << 61) | (position << 1) | 1
+    (u64::from(face) << 61) | (position << 1)
 }
 
 /// The cube face stored in the top 3 bits of an id.
@@ -151,6 +175,18 @@ mod tests {
         assert_eq!(id & 1, 1);
         assert_eq!(id_face(id), 0);
         assert_eq!((id >> 59) & 3, 2);
+    }
+
+    #[test]
+    fn prefixes_bracket_the_full_id() {
+        let p = [0.3, -0.7, 0.2];
+        let id = cell_id(p);
+        for steps in 1..=8 {
+            let prefix = cell_id_prefix(p, steps);
+            assert!(prefix <= id);
+            assert!(id - prefix < 1 << (65 - 8 * steps));
+        }
+        assert_eq!(cell_id_prefix(p, 8) | 1, id);
     }
 
     #[test]

@@ -11,6 +11,12 @@ pub(crate) struct CellSearch {
     normals: Vec<[f64; 3]>,
     /// 1-ring neighbours with the sentinel replaced by the cell itself (never an improvement).
     ring: Vec<[u32; 12]>,
+    /// Per cell, `cos` of half the angle to the nearest other cell normal (less a rounding
+    /// margin): a query whose dot product with the cell normal reaches it is inside the
+    /// cell's inscribed cap, so no other cell can be closer.
+    certain: Vec<f64>,
+    /// Lookup steps of the query ids (see [`s2id::cell_id_prefix`]).
+    steps: u32,
     model: LinearModel,
     /// Smallest `k - predict(id_k)` over the cells.
     error_min: i64,
@@ -33,11 +39,11 @@ pub(crate) struct LinearModel {
 impl LinearModel {
     fn fit(ids: &[u64]) -> Self {
         let n = ids.len() as f64;
-        let id_mean = ids.iter().map(|&id| id as f64).sum::<f64>() / n;
+        let id_mean = ids.iter().map(|&id| key(id)).sum::<f64>() / n;
         let index_mean = (n - 1.0) / 2.0;
         let (mut sxy, mut sxx) = (0.0, 0.0);
         for (k, &id) in ids.iter().enumerate() {
-            let dx = id as f64 - id_mean;
+            let dx = key(id) - id_mean;
             sxy += dx * (k as f64 - index_mean);
             sxx += dx * dx;
         }
@@ -50,12 +56,19 @@ impl LinearModel {
         }
     }
 
-    /// `floor` of the predicted index: non-decreasing in `id` (every step is monotone), which
+    /// The predicted index, truncated: non-decreasing in `id` (every step is monotone), which
     /// the error bounds rely on.
     #[inline(always)]
     fn predict(self, id: u64) -> i64 {
-        ((id as f64 - self.id_mean) * self.slope + self.index_mean).floor() as i64
+        ((key(id) - self.id_mean) * self.slope + self.index_mean) as i64
     }
+}
+
+/// An id as a float, monotone in the id: halved first so that it fits an `i64`, whose
+/// conversion to `f64` is a single instruction (unlike `u64`'s).
+#[inline(always)]
+fn key(id: u64) -> f64 {
+    ((id >> 1) as i64) as f64
 }
 
 impl CellSearch {
@@ -73,16 +86,36 @@ impl CellSearch {
         // which a lower-bound search over one id fewer covers.
         let window = ((error_max - error_min + 1) as usize).min(ids.len());
         let last_start = (ids.len() - window) as i64;
-        let ring = ico
+        let normals = ico.normals();
+        let ring: Vec<[u32; 12]> = ico
             .neighbors()
             .iter()
             .enumerate()
             .map(|(i, row)| row.map(|c| if c == NO_NEIGHBOR { i as u32 } else { c }))
             .collect();
+        // The nearest other cell normal is a Voronoi neighbour, hence in the 1-ring.
+        let certain = ring
+            .iter()
+            .enumerate()
+            .map(|(i, row)| {
+                let nearest = row
+                    .iter()
+                    .filter(|&&c| c as usize != i)
+                    .map(|&c| dot(normals[i], normals[c as usize]))
+                    .fold(-1.0, f64::max);
+                // cos(θ/2) = sqrt((1 + cos θ) / 2); the margin covers rounding in the dots.
+                ((1.0 + nearest) / 2.0).sqrt() + 1e-9
+            })
+            .collect();
+        // Hilbert levels of the query ids (4 · steps − 2): about two finer than the cells, which
+        // starts the ascent as well as the full leaf id does.
+        let steps = (ico.level() + 4).div_ceil(4).clamp(1, 8);
         Self {
             ids,
-            normals: ico.normals().to_vec(),
+            normals: normals.to_vec(),
             ring,
+            certain,
+            steps,
             model,
             error_min,
             error_max,
@@ -99,33 +132,36 @@ impl CellSearch {
     /// Index of the cell whose normal is closest to `p` (non-zero, finite).
     #[inline(always)]
     pub(crate) fn find(&self, p: [f64; 3]) -> u32 {
-        let id = s2id::cell_id(p);
-        let start = self.closest_by_id(id);
-        self.descend(start, p)
+        let id = s2id::cell_id_prefix(p, self.steps);
+        let k = self.insertion_point(id);
+        // Start from the better (by angle) of the two cells around the id on the curve.
+        let last = self.ids.len() - 1;
+        let (a, b) = (k.saturating_sub(1), k.min(last));
+        let (da, db) = (dot(self.normals[a], p), dot(self.normals[b], p));
+        if da >= db {
+            self.descend(a, da, p)
+        } else {
+            self.descend(b, db, p)
+        }
     }
 
-    /// The cell with the id closest to `id`, found in the model's window.
+    /// Position of the first cell id ≥ `id`, found in the model's window.
     #[inline(always)]
-    pub(crate) fn closest_by_id(&self, id: u64) -> usize {
+    pub(crate) fn insertion_point(&self, id: u64) -> usize {
         let lo = (self.model.predict(id) + self.error_min).clamp(0, self.last_start) as usize;
-        let k = lo + lower_bound(&self.ids[lo..lo + self.window], id);
-        let last = self.ids.len() - 1;
-        if k > last {
-            last
-        } else if k > 0 && id - self.ids[k - 1] < self.ids[k] - id {
-            k - 1
-        } else {
-            k
-        }
+        lo + lower_bound(&self.ids[lo..lo + self.window], id)
     }
 
     /// Steepest ascent of `normal · p` over the 1-ring neighbour graph. The 1-ring holds every
     /// Voronoi neighbour of a cell normal (checked in the tests), so a cell with no better
-    /// neighbour is the closest cell overall.
+    /// neighbour is the closest cell overall; a cell whose inscribed cap holds `p` is too.
     #[inline(always)]
-    fn descend(&self, mut best: usize, p: [f64; 3]) -> u32 {
-        let mut best_dot = dot(self.normals[best], p);
+    fn descend(&self, mut best: usize, mut best_dot: f64, p: [f64; 3]) -> u32 {
+        let norm = dot(p, p).sqrt();
         loop {
+            if best_dot >= self.certain[best] * norm {
+                return best as u32;
+            }
             let mut next = best;
             for &c in &self.ring[best] {
                 let d = dot(self.normals[c as usize], p);

@@ -1,0 +1,158 @@
+//! Integration: input types, validity filter, sampling, and results independent of threads.
+
+mod common;
+
+use common::{dot, random_units};
+use fastga::{GaussianAccumulator, IntegrateStats, KdAccumulator, Parallelism};
+use proptest::prelude::*;
+
+fn snapshot(ga: &GaussianAccumulator) -> (Vec<u64>, Vec<[f64; 3]>) {
+    let sums = (0..ga.icosahedron().cell_count() as u32)
+        .map(|c| ga.cell_normal_sum(c))
+        .collect();
+    (ga.counts().to_vec(), sums)
+}
+
+#[test]
+fn results_are_identical_for_any_thread_count() {
+    let normals = random_units(11, 60_000);
+    let mut reference = GaussianAccumulator::new(4).unwrap();
+    let expected_stats = reference
+        .integrate(&normals, 0.3, Parallelism::Sequential)
+        .unwrap();
+    let expected = snapshot(&reference);
+    for threads in 1..=4 {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        let mut ga = GaussianAccumulator::new(4).unwrap();
+        let stats = pool.install(|| ga.integrate(&normals, 0.3, Parallelism::Rayon).unwrap());
+        assert_eq!(stats, expected_stats, "{threads} threads");
+        assert_eq!(snapshot(&ga), expected, "{threads} threads");
+    }
+}
+
+#[test]
+fn f32_input_bins_like_its_f64_conversion() {
+    let normals: Vec<[f32; 3]> = random_units(12, 20_000)
+        .iter()
+        .map(|p| p.map(|x| x as f32))
+        .collect();
+    let widened: Vec<[f64; 3]> = normals.iter().map(|p| p.map(f64::from)).collect();
+    let mut a = GaussianAccumulator::new(3).unwrap();
+    let mut b = GaussianAccumulator::new(3).unwrap();
+    let sa = a.integrate(&normals, 1.0, Parallelism::Rayon).unwrap();
+    let sb = b.integrate(&widened, 1.0, Parallelism::Rayon).unwrap();
+    assert_eq!(sa, sb);
+    assert_eq!(sa.integrated, 20_000);
+    assert_eq!(snapshot(&a), snapshot(&b));
+}
+
+#[test]
+fn invalid_normals_are_skipped_and_counted() {
+    let s = 1.0 / 3f64.sqrt();
+    let normals = [
+        [0.0, 0.0, 1.0],
+        [f64::NAN, 0.0, 1.0],
+        [f64::INFINITY, 0.0, 0.0],
+        [0.0, 0.0, 0.0],
+        [2.0, 0.0, 0.0],
+        [0.0, 0.99, 0.0],
+        [s, s, s],
+        [0.0, 1.0 + 1e-6, 0.0],
+    ];
+    for parallelism in [Parallelism::Sequential, Parallelism::Rayon] {
+        let mut ga = GaussianAccumulator::new(2).unwrap();
+        let stats = ga.integrate(&normals, 1.0, parallelism).unwrap();
+        assert_eq!(
+            stats,
+            IntegrateStats {
+                integrated: 3,
+                skipped_invalid: 5,
+                skipped_by_sampling: 0
+            }
+        );
+        assert_eq!(ga.total(), 3);
+        let mut kd = KdAccumulator::new(2).unwrap();
+        assert_eq!(kd.integrate(&normals, 1.0, parallelism).unwrap(), stats);
+    }
+    let mut strict = GaussianAccumulator::new(2).unwrap();
+    strict.set_unit_tolerance(0.0).unwrap();
+    assert!(strict.set_unit_tolerance(f64::NAN).is_err());
+    assert!(strict.set_unit_tolerance(1.0).is_err());
+}
+
+#[test]
+fn sampling_is_deterministic_and_counts_add_up() {
+    let normals = random_units(13, 50_000);
+    let mut ga = GaussianAccumulator::new(3).unwrap();
+    let first = ga
+        .integrate(&normals, 0.12, Parallelism::Sequential)
+        .unwrap();
+    let counts = ga.counts().to_vec();
+    assert_eq!(first.integrated + first.skipped_by_sampling, 50_000);
+    let kept = first.integrated as f64 / 50_000.0;
+    assert!((kept - 0.12).abs() < 0.01, "kept {kept}");
+    ga.clear();
+    assert_eq!(ga.total(), 0);
+    let second = ga.integrate(&normals, 0.12, Parallelism::Rayon).unwrap();
+    assert_eq!(first, second);
+    assert_eq!(ga.counts(), &counts[..]);
+    assert!(ga.integrate(&normals, 0.0, Parallelism::Rayon).is_err());
+    assert!(ga.integrate(&normals, 1.01, Parallelism::Rayon).is_err());
+}
+
+#[test]
+fn cell_means_are_the_mean_of_their_normals() {
+    let normals = random_units(14, 5_000);
+    let mut ga = GaussianAccumulator::new(1).unwrap();
+    ga.integrate(&normals, 1.0, Parallelism::Rayon).unwrap();
+    for cell in 0..ga.icosahedron().cell_count() as u32 {
+        let mut sum = [0.0; 3];
+        for p in normals.iter().filter(|&&p| ga.find_cell(p) == cell) {
+            for k in 0..3 {
+                sum[k] += p[k];
+            }
+        }
+        let ours = ga.cell_normal_sum(cell);
+        for k in 0..3 {
+            assert!((ours[k] - sum[k]).abs() < 1e-6);
+        }
+        if let Some(mean) = ga.cell_mean_normal(cell) {
+            assert!((dot(mean, mean) - 1.0).abs() < 1e-12);
+        }
+    }
+}
+
+#[test]
+fn empty_input_is_fine() {
+    let mut ga = GaussianAccumulator::new(0).unwrap();
+    let none: [[f64; 3]; 0] = [];
+    for parallelism in [Parallelism::Sequential, Parallelism::Rayon] {
+        let stats = ga.integrate(&none, 1.0, parallelism).unwrap();
+        assert_eq!(stats, IntegrateStats::default());
+    }
+    assert!(ga.find_peaks(0.0).is_empty());
+    assert!(ga.unwrapped_image().values().iter().all(|&v| v == 0.0));
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(256))]
+    /// The search finds the closest cell (up to 1e-12 ties) for any non-zero direction, at any
+    /// scale; the direction is what counts.
+    #[test]
+    fn find_cell_is_exhaustive_search(
+        x in -1.0f64..1.0, y in -1.0f64..1.0, z in -1.0f64..1.0,
+        scale in 1e-3f64..1e3, level in 0u32..=4,
+    ) {
+        prop_assume!(x * x + y * y + z * z > 1e-9);
+        let ga = GaussianAccumulator::new(level).unwrap();
+        let p = [x * scale, y * scale, z * scale];
+        let found = ga.find_cell(p);
+        let best = ga.icosahedron().nearest_cell_brute_force(p);
+        let n = ga.icosahedron().normals();
+        let norm = dot(p, p).sqrt();
+        prop_assert!(dot(n[found as usize], p) / norm >= dot(n[best as usize], p) / norm - 1e-12);
+    }
+}
