@@ -12,7 +12,7 @@ use std::collections::HashMap;
 use std::io::Cursor;
 use std::path::Path;
 
-use crate::depth::{DepthImage, bit_text};
+use crate::depth::{DepthImage, bit_text, checked_buffer_size};
 use crate::error::{ErrorKind, Format, IoError, KindResult, read_file};
 
 /// The Jet colormap of the RealSense colorizer, near to far.
@@ -122,9 +122,7 @@ fn decode(bytes: &[u8]) -> KindResult<ColorizedDepth> {
             bit_text(depth)
         )));
     }
-    let size = reader
-        .output_buffer_size()
-        .ok_or_else(|| ErrorKind::Decoder("image too large".to_owned()))?;
+    let size = checked_buffer_size(&reader, bytes.len())?;
     let mut buf = vec![0u8; size];
     let frame = reader
         .next_frame(&mut buf)

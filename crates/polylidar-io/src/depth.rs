@@ -71,9 +71,7 @@ fn decode_png(bytes: &[u8]) -> KindResult<DepthImage> {
             bit_text(depth)
         )));
     }
-    let size = reader
-        .output_buffer_size()
-        .ok_or_else(|| ErrorKind::Decoder("image too large".to_owned()))?;
+    let size = checked_buffer_size(&reader, bytes.len())?;
     let mut buf = vec![0u8; size];
     let frame = reader
         .next_frame(&mut buf)
@@ -95,6 +93,26 @@ fn decode_png(bytes: &[u8]) -> KindResult<DepthImage> {
         height,
         data,
     })
+}
+
+/// Deflate expands at most ~1032:1; a larger claimed image is corrupt.
+const MAX_INFLATE_RATIO: usize = 1100;
+
+/// The decoder's output buffer size, refused when the header claims more pixels than
+/// `file_len` compressed bytes can hold (a corrupt header would otherwise allocate GiBs).
+pub(crate) fn checked_buffer_size<R: std::io::BufRead + std::io::Seek>(
+    reader: &png::Reader<R>,
+    file_len: usize,
+) -> KindResult<usize> {
+    let size = reader
+        .output_buffer_size()
+        .ok_or_else(|| ErrorKind::Decoder("image too large".to_owned()))?;
+    if size > file_len.saturating_mul(MAX_INFLATE_RATIO) {
+        return Err(ErrorKind::Corrupt(format!(
+            "the header claims {size} bytes of pixels, more than {file_len} compressed bytes can hold"
+        )));
+    }
+    Ok(size)
 }
 
 pub(crate) fn bit_text(depth: png::BitDepth) -> &'static str {
@@ -278,6 +296,34 @@ mod tests {
         assert!(e.to_string().contains("resolution y"), "{e}");
         let e = parse_realsense_intrinsics("Fx,abc\n").unwrap_err();
         assert!(matches!(e.kind, ErrorKind::Line { line: 1, .. }), "{e}");
+    }
+
+    fn crc32(bytes: &[u8]) -> u32 {
+        let mut crc = !0u32;
+        for &b in bytes {
+            crc ^= u32::from(b);
+            for _ in 0..8 {
+                crc = (crc >> 1) ^ (0xEDB8_8320 & 0u32.wrapping_sub(crc & 1));
+            }
+        }
+        !crc
+    }
+
+    #[test]
+    fn huge_claimed_size_is_refused_before_allocating() {
+        let mut bytes = encode_depth_png(&DepthImage {
+            width: 1,
+            height: 1,
+            data: vec![5],
+        })
+        .unwrap();
+        // IHDR data sits at bytes 16..29 (width, height, …), its CRC at 29..33.
+        bytes[16..20].copy_from_slice(&60_000u32.to_be_bytes());
+        bytes[20..24].copy_from_slice(&60_000u32.to_be_bytes());
+        let crc = crc32(&bytes[12..29]);
+        bytes[29..33].copy_from_slice(&crc.to_be_bytes());
+        let e = parse_depth_png(&bytes).unwrap_err();
+        assert!(matches!(e.kind, ErrorKind::Corrupt(_)), "{e}");
     }
 
     #[test]

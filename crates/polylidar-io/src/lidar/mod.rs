@@ -8,9 +8,9 @@ use crate::error::{ErrorKind, Format, IoError, KindResult};
 
 mod guard;
 
-/// Points decoded per batch: bounds memory use by what the file really holds, whatever
-/// its header claims.
-const BATCH: u64 = 65_536;
+/// Bytes of point records decoded per batch: bounds memory use by what the file really
+/// holds, whatever its header claims (records may be up to 64 KiB long).
+const BATCH_BYTES: u64 = 8 << 20;
 
 /// Reads a LAS or LAZ file: coordinates (scale and offset applied) and classification.
 ///
@@ -58,10 +58,12 @@ fn decode_unguarded<R: Read + Seek + Send + Sync + 'static>(read: R) -> KindResu
     let mut batch = las::PointDataBuilder::new()
         .for_header(reader.header())
         .build();
+    let record_len = u64::from(reader.header().point_format().len()).max(1);
+    let batch_points = (BATCH_BYTES / record_len).max(1);
     let mut done = 0u64;
     while done < total {
         let n = reader
-            .fill_points(BATCH.min(total - done), &mut batch)
+            .fill_points(batch_points.min(total - done), &mut batch)
             .map_err(las_err)?;
         if n == 0 {
             return Err(ErrorKind::Shape(format!(
