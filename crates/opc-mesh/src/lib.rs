@@ -12,6 +12,8 @@
 //!   twins and, if asked, unit triangle normals, plus the [`TriangleMap`] from the
 //!   implicit mesh's global triangle ids to mesh triangles. It runs in parallel with rayon
 //!   ([`OpcMeshOptions`]) and gives the same mesh at any thread count.
+//!   [`OrganizedPointCloud::mesh_reusing`] writes over an earlier mesh's arrays, for
+//!   streams of frames.
 //!
 //! ```
 //! use opc_mesh::{DepthOptions, Intrinsics, OpcMeshOptions, OrganizedPointCloud};
