@@ -51,7 +51,6 @@ pub fn bilateral_filter(
     }
 }
 
-#[cfg(feature = "gpu")]
 fn gpu_laplacian(
     cloud: &OrganizedPointCloud,
     options: &LaplacianOptions,
@@ -59,26 +58,9 @@ fn gpu_laplacian(
     crate::GpuSmoother::new()?.laplacian(cloud, options)
 }
 
-#[cfg(not(feature = "gpu"))]
-fn gpu_laplacian(
-    _cloud: &OrganizedPointCloud,
-    _options: &LaplacianOptions,
-) -> Result<OrganizedPointCloud, SmoothError> {
-    Err(SmoothError::GpuFeatureDisabled)
-}
-
-#[cfg(feature = "gpu")]
 fn gpu_bilateral(
     cloud: &OrganizedPointCloud,
     options: &BilateralOptions,
 ) -> Result<SlotNormals, SmoothError> {
     crate::GpuSmoother::new()?.bilateral(cloud, options)
-}
-
-#[cfg(not(feature = "gpu"))]
-fn gpu_bilateral(
-    _cloud: &OrganizedPointCloud,
-    _options: &BilateralOptions,
-) -> Result<SlotNormals, SmoothError> {
-    Err(SmoothError::GpuFeatureDisabled)
 }

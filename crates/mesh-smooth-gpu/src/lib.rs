@@ -58,8 +58,11 @@
 //!
 //! # Cargo features
 //!
-//! * `gpu` (default **off**): the wgpu backend, [`GpuSmoother`] and [`Backend::Gpu`].
-//!   Without it, `Backend::Gpu` returns [`SmoothError::GpuFeatureDisabled`]. Needs a
+//! * `gpu` (default **off**): the wgpu backend behind [`GpuSmoother`] and
+//!   [`Backend::Gpu`]. Without it, `Backend::Gpu` and `GpuSmoother::new` return
+//!   [`SmoothError::GpuFeatureDisabled`] (the type still exists, so code using it compiles
+//!   either way; `GpuSmoother::from_device` and `adapter_info`, which name wgpu types, need
+//!   the feature). Needs a
 //!   Vulkan, Metal, DX12 or GL driver at run time; on machines without a GPU, Mesa's
 //!   software Vulkan driver (lavapipe, Debian `mesa-vulkan-drivers`) works.
 
@@ -70,6 +73,8 @@ mod error;
 mod filters;
 #[cfg(feature = "gpu")]
 mod gpu;
+#[cfg(not(feature = "gpu"))]
+mod gpu_disabled;
 pub mod grid;
 pub mod mesh;
 mod options;
@@ -78,5 +83,11 @@ pub use error::SmoothError;
 pub use filters::{bilateral_filter, laplacian_filter};
 #[cfg(feature = "gpu")]
 pub use gpu::GpuSmoother;
+#[cfg(not(feature = "gpu"))]
+pub use gpu_disabled::GpuSmoother;
 pub use grid::SlotNormals;
 pub use options::{Backend, BilateralOptions, LaplacianOptions};
+
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+struct ReadmeDoctests;

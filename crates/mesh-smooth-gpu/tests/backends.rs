@@ -1,4 +1,5 @@
 //! `Cpu` and `CpuParallel` give bit-identical results at any thread count.
+#![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
 
 mod common;
 

@@ -2,6 +2,7 @@
 //! included. Without an adapter these tests fail under CI (`CI=true`) and are skipped with
 //! a printed reason elsewhere.
 #![cfg(feature = "gpu")]
+#![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
 
 mod common;
 

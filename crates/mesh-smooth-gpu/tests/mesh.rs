@@ -1,4 +1,5 @@
 //! Smoothing of general half-edge meshes against brute-force oracles and known effects.
+#![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
 
 use std::collections::BTreeSet;
 

@@ -1,5 +1,5 @@
 //! Shared helpers of the integration tests: seeded clouds and independent `f64` oracles.
-#![allow(dead_code)] // each test binary uses a different subset
+#![allow(dead_code, clippy::expect_used)] // each test binary uses a different subset
 
 use opc_mesh::OrganizedPointCloud;
 use rand::{RngExt, SeedableRng};

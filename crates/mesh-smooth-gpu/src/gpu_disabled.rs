@@ -1,0 +1,54 @@
+//! [`GpuSmoother`] when the crate is built without the `gpu` feature: the type exists so
+//! that code using it compiles either way, but it cannot be created.
+
+use std::convert::Infallible;
+
+use opc_mesh::OrganizedPointCloud;
+
+use crate::{BilateralOptions, LaplacianOptions, SlotNormals, SmoothError};
+
+/// The GPU smoother; this build lacks the `gpu` cargo feature, so [`GpuSmoother::new`]
+/// always returns [`SmoothError::GpuFeatureDisabled`].
+#[derive(Debug)]
+pub struct GpuSmoother {
+    never: Infallible,
+}
+
+impl GpuSmoother {
+    /// Always [`SmoothError::GpuFeatureDisabled`] in this build.
+    ///
+    /// # Errors
+    /// Always.
+    pub fn new() -> Result<Self, SmoothError> {
+        Err(SmoothError::GpuFeatureDisabled)
+    }
+
+    /// One line naming the adapter (never called: no value of this type exists).
+    pub fn adapter_summary(&self) -> String {
+        match self.never {}
+    }
+
+    /// The Laplacian filter on the GPU (never called: no value of this type exists).
+    ///
+    /// # Errors
+    /// None can occur.
+    pub fn laplacian(
+        &mut self,
+        _cloud: &OrganizedPointCloud,
+        _options: &LaplacianOptions,
+    ) -> Result<OrganizedPointCloud, SmoothError> {
+        match self.never {}
+    }
+
+    /// The bilateral filter on the GPU (never called: no value of this type exists).
+    ///
+    /// # Errors
+    /// None can occur.
+    pub fn bilateral(
+        &mut self,
+        _cloud: &OrganizedPointCloud,
+        _options: &BilateralOptions,
+    ) -> Result<SlotNormals, SmoothError> {
+        match self.never {}
+    }
+}
