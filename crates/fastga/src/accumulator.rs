@@ -97,7 +97,9 @@ impl GaussianAccumulator {
             parallelism,
         };
         let search = &self.search;
-        Ok(driver.run(normals, &mut self.bins, |p| search.find(p)))
+        Ok(driver.run(normals, &mut self.bins, |batch, cells| {
+            search.find_batch(batch, cells)
+        }))
     }
 
     /// Index of the cell whose normal is closest to `p` (by angle). `p` need not be unit

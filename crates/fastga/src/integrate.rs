@@ -14,6 +14,9 @@ pub(crate) const SUM_SCALE: f64 = (1u64 << 30) as f64;
 /// Normals per parallel task.
 const CHUNK: usize = 8192;
 
+/// Normals searched together, so that the searches' memory latencies overlap.
+pub(crate) const BATCH: usize = 32;
+
 /// A 3D normal that the accumulators can integrate: implemented for `[f64; 3]` and `[f32; 3]`.
 pub trait AsNormal: Sync {
     /// The normal in double precision.
@@ -150,11 +153,12 @@ pub(crate) struct Driver {
 }
 
 impl Driver {
-    /// Bins `normals` with `find` (normal → cell index) into `bins`.
+    /// Bins `normals` into `bins`; `find` writes the cell index of each normal of a batch of
+    /// at most [`BATCH`] into the matching place of its second argument.
     pub(crate) fn run<N, F>(&self, normals: &[N], bins: &mut Bins, find: F) -> IntegrateStats
     where
         N: AsNormal,
-        F: Fn([f64; 3]) -> u32 + Sync,
+        F: Fn(&[[f64; 3]], &mut [u32]) + Sync,
     {
         match self.parallelism {
             Parallelism::Sequential => self.chunk(normals, 0, bins, &find),
@@ -186,9 +190,18 @@ impl Driver {
     fn chunk<N, F>(&self, chunk: &[N], first: u64, bins: &mut Bins, find: &F) -> IntegrateStats
     where
         N: AsNormal,
-        F: Fn([f64; 3]) -> u32,
+        F: Fn(&[[f64; 3]], &mut [u32]),
     {
         let mut stats = IntegrateStats::default();
+        let mut batch = [[0.0; 3]; BATCH];
+        let mut cells = [0u32; BATCH];
+        let mut len = 0;
+        let mut flush = |batch: &[[f64; 3]], cells: &mut [u32]| {
+            find(batch, cells);
+            for (&p, &c) in batch.iter().zip(cells.iter()) {
+                bins.add(c as usize, p);
+            }
+        };
         for (k, n) in chunk.iter().enumerate() {
             if !self.sampler.keep(first + k as u64) {
                 stats.skipped_by_sampling += 1;
@@ -201,9 +214,15 @@ impl Driver {
                 stats.skipped_invalid += 1;
                 continue;
             }
-            bins.add(find(p) as usize, p);
-            stats.integrated += 1;
+            batch[len] = p;
+            len += 1;
+            if len == BATCH {
+                flush(&batch, &mut cells);
+                len = 0;
+            }
         }
+        flush(&batch[..len], &mut cells[..len]);
+        stats.integrated = chunk.len() as u64 - stats.skipped_by_sampling - stats.skipped_invalid;
         stats
     }
 }

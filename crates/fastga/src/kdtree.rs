@@ -94,7 +94,11 @@ impl KdAccumulator {
             parallelism,
         };
         let tree = &self.tree;
-        Ok(driver.run(normals, &mut self.bins, |p| nearest(tree, p)))
+        Ok(driver.run(normals, &mut self.bins, |batch, cells| {
+            for (p, c) in batch.iter().zip(cells) {
+                *c = nearest(tree, *p);
+            }
+        }))
     }
 
     /// Empties every cell.

@@ -60,6 +60,11 @@ pub use integrate::{AsNormal, IntegrateStats, Parallelism};
 pub use kdtree::KdAccumulator;
 pub use peaks::{DominantNormal, Peak, cluster_peaks};
 
+/// The README's example, compiled and run as a doctest.
+#[doc = include_str!("../README.md")]
+#[cfg(doctest)]
+struct ReadmeDoctest;
+
 /// Checks a unit-length tolerance.
 fn unit_tolerance_checked(tolerance: f64) -> Result<f64, FastGaError> {
     if (0.0..1.0).contains(&tolerance) {

@@ -76,7 +76,7 @@ pub fn face(p: [f64; 3]) -> u8 {
 #[inline(always)]
 pub fn uv_to_st(u: f64) -> f64 {
     let half = 0.5 * (1.0 + 3.0 * u.abs()).sqrt();
-    if u >= 0.0 { half } else { 1.0 - half }
+    std::hint::select_unpredictable(u >= 0.0, half, 1.0 - half)
 }
 
 /// Leaf-cell coordinate (0 ..= 2^30 − 1) of `s` in [0, 1].

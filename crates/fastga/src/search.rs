@@ -2,19 +2,30 @@
 //! neighbour refinement by true angular distance.
 
 use crate::icosahedron::{Icosahedron, NO_NEIGHBOR, dot};
+use crate::integrate::BATCH;
 use crate::s2id;
+
+/// What the search reads of one cell, packed so one visit touches one or two cache lines.
+#[derive(Debug, Clone, Copy)]
+struct Cell {
+    normal: [f64; 3],
+    /// `cos` of half the angle to the nearest 1-ring cell that shares no edge, plus a
+    /// rounding margin: in that cap around the normal only the three edge neighbours can be
+    /// closer to a query, so a query in the cap that beats them is in this cell.
+    certain: f64,
+    /// The three cells sharing an edge with this one.
+    edges: [u32; 3],
+    /// 1-ring neighbours with the sentinel replaced by the cell itself (never an improvement).
+    ring: [u32; 12],
+}
 
 /// The cell search of one icosahedron.
 #[derive(Debug, Clone)]
 pub(crate) struct CellSearch {
-    ids: Vec<u64>,
-    normals: Vec<[f64; 3]>,
-    /// 1-ring neighbours with the sentinel replaced by the cell itself (never an improvement).
-    ring: Vec<[u32; 12]>,
-    /// Per cell, `cos` of half the angle to the nearest other cell normal (less a rounding
-    /// margin): a query whose dot product with the cell normal reaches it is inside the
-    /// cell's inscribed cap, so no other cell can be closer.
-    certain: Vec<f64>,
+    /// Top 32 bits of each cell id: the binary search reads these (half the ids'
+    /// cache footprint); equal keys only make the starting cell less exact.
+    keys: Vec<u32>,
+    cells: Vec<Cell>,
     /// Lookup steps of the query ids (see [`s2id::cell_id_prefix`]).
     steps: u32,
     model: LinearModel,
@@ -73,8 +84,8 @@ fn key(id: u64) -> f64 {
 
 impl CellSearch {
     pub(crate) fn new(ico: &Icosahedron) -> Self {
-        let ids = ico.cell_ids().to_vec();
-        let model = LinearModel::fit(&ids);
+        let ids = ico.cell_ids();
+        let model = LinearModel::fit(ids);
         let (mut error_min, mut error_max) = (i64::MAX, i64::MIN);
         for (k, &id) in ids.iter().enumerate() {
             let e = k as i64 - model.predict(id);
@@ -87,34 +98,56 @@ impl CellSearch {
         let window = ((error_max - error_min + 1) as usize).min(ids.len());
         let last_start = (ids.len() - window) as i64;
         let normals = ico.normals();
-        let ring: Vec<[u32; 12]> = ico
+        let rings: Vec<[u32; 12]> = ico
             .neighbors()
             .iter()
             .enumerate()
             .map(|(i, row)| row.map(|c| if c == NO_NEIGHBOR { i as u32 } else { c }))
             .collect();
-        // The nearest other cell normal is a Voronoi neighbour, hence in the 1-ring.
-        let certain = ring
+        let triangles = ico.triangles();
+        let shared = |a: usize, b: usize| {
+            triangles[a]
+                .iter()
+                .filter(|v| triangles[b].contains(v))
+                .count()
+        };
+        let mut certain = Vec::with_capacity(rings.len());
+        let mut edges = Vec::with_capacity(rings.len());
+        for (i, row) in rings.iter().enumerate() {
+            let mut edge = [i as u32; 3];
+            let mut k = 0;
+            let mut nearest = -1.0f64;
+            for &c in row.iter().filter(|&&c| c as usize != i) {
+                if shared(i, c as usize) == 2 {
+                    edge[k] = c;
+                    k += 1;
+                } else {
+                    nearest = nearest.max(dot(normals[i], normals[c as usize]));
+                }
+            }
+            debug_assert_eq!(k, 3, "a closed triangle mesh has three edge neighbours");
+            edges.push(edge);
+            // cos(θ/2) = sqrt((1 + cos θ) / 2); the margin covers rounding in the dots.
+            certain.push(((1.0 + nearest) / 2.0).sqrt() + 1e-9);
+        }
+        let cells = normals
             .iter()
-            .enumerate()
-            .map(|(i, row)| {
-                let nearest = row
-                    .iter()
-                    .filter(|&&c| c as usize != i)
-                    .map(|&c| dot(normals[i], normals[c as usize]))
-                    .fold(-1.0, f64::max);
-                // cos(θ/2) = sqrt((1 + cos θ) / 2); the margin covers rounding in the dots.
-                ((1.0 + nearest) / 2.0).sqrt() + 1e-9
+            .zip(certain)
+            .zip(edges)
+            .zip(rings)
+            .map(|(((&normal, certain), edges), ring)| Cell {
+                normal,
+                certain,
+                edges,
+                ring,
             })
             .collect();
         // Hilbert levels of the query ids (4 · steps − 2): about two finer than the cells, which
         // starts the ascent as well as the full leaf id does.
         let steps = (ico.level() + 4).div_ceil(4).clamp(1, 8);
         Self {
-            ids,
-            normals: normals.to_vec(),
-            ring,
-            certain,
+            keys: ids.iter().map(|&id| key32(id)).collect(),
+            cells,
             steps,
             model,
             error_min,
@@ -133,55 +166,115 @@ impl CellSearch {
     #[inline(always)]
     pub(crate) fn find(&self, p: [f64; 3]) -> u32 {
         let id = s2id::cell_id_prefix(p, self.steps);
-        let k = self.insertion_point(id);
+        let lo = self.window_start(id);
+        let k = lo + lower_bound(&self.keys[lo..lo + self.window], key32(id));
         // Start from the better (by angle) of the two cells around the id on the curve.
-        let last = self.ids.len() - 1;
+        let last = self.cells.len() - 1;
         let (a, b) = (k.saturating_sub(1), k.min(last));
-        let (da, db) = (dot(self.normals[a], p), dot(self.normals[b], p));
-        if da >= db {
-            self.descend(a, da, p)
+        let (da, db) = (dot(self.cells[a].normal, p), dot(self.cells[b].normal, p));
+        let start = std::hint::select_unpredictable(da >= db, a, b);
+        if self.is_certain(start, da.max(db), p) {
+            start as u32
         } else {
-            self.descend(b, db, p)
+            self.descend(start, da.max(db), p)
         }
     }
 
-    /// Position of the first cell id ≥ `id`, found in the model's window.
+    /// [`find`](Self::find) for up to [`BATCH`] normals, stage by stage so that the memory
+    /// latencies of the independent searches overlap.
     #[inline(always)]
-    pub(crate) fn insertion_point(&self, id: u64) -> usize {
-        let lo = (self.model.predict(id) + self.error_min).clamp(0, self.last_start) as usize;
-        lo + lower_bound(&self.ids[lo..lo + self.window], id)
+    pub(crate) fn find_batch(&self, batch: &[[f64; 3]], cells: &mut [u32]) {
+        let n = batch.len().min(BATCH);
+        let mut base = [0usize; BATCH];
+        let mut key = [0u32; BATCH];
+        for b in 0..n {
+            let id = s2id::cell_id_prefix(batch[b], self.steps);
+            base[b] = self.window_start(id);
+            key[b] = key32(id);
+        }
+        // Lower bound in each window, one step for every normal at a time.
+        let mut size = self.window;
+        while size > 1 {
+            let half = size / 2;
+            for b in 0..n {
+                let probe = base[b] + half;
+                base[b] =
+                    std::hint::select_unpredictable(self.keys[probe] < key[b], probe, base[b]);
+            }
+            size -= half;
+        }
+        // Starting cells, and whether each is already certain (loads overlap across normals).
+        let last = self.cells.len() - 1;
+        let mut start = [0usize; BATCH];
+        let mut start_dot = [0.0f64; BATCH];
+        let mut done = [false; BATCH];
+        for b in 0..n {
+            let k = base[b] + usize::from(self.keys[base[b]] < key[b]);
+            let p = batch[b];
+            let (lo, hi) = (k.saturating_sub(1), k.min(last));
+            let (dl, dh) = (dot(self.cells[lo].normal, p), dot(self.cells[hi].normal, p));
+            start[b] = std::hint::select_unpredictable(dl >= dh, lo, hi);
+            start_dot[b] = dl.max(dh);
+            done[b] = self.is_certain(start[b], start_dot[b], p);
+        }
+        for b in 0..n {
+            cells[b] = if done[b] {
+                start[b] as u32
+            } else {
+                self.descend(start[b], start_dot[b], batch[b])
+            };
+        }
     }
 
-    /// Steepest ascent of `normal · p` over the 1-ring neighbour graph. The 1-ring holds every
-    /// Voronoi neighbour of a cell normal (checked in the tests), so a cell with no better
-    /// neighbour is the closest cell overall; a cell whose inscribed cap holds `p` is too.
+    /// Whether `p`, with dot product `best_dot` with the normal of `cell`, is in that cell by
+    /// the cap and edge-neighbour test (a sufficient condition, without branches).
+    #[inline(always)]
+    fn is_certain(&self, cell: usize, best_dot: f64, p: [f64; 3]) -> bool {
+        let cell = &self.cells[cell];
+        let edge = |k: usize| dot(self.cells[cell.edges[k] as usize].normal, p);
+        let in_cap = best_dot >= cell.certain * dot(p, p).sqrt();
+        in_cap & (best_dot >= edge(0).max(edge(1)).max(edge(2)))
+    }
+
+    /// Start of the window of the model that holds the insertion point of `id`.
+    #[inline(always)]
+    fn window_start(&self, id: u64) -> usize {
+        (self.model.predict(id) + self.error_min).clamp(0, self.last_start) as usize
+    }
+
+    /// Steepest ascent of `normal · p` over the 1-ring neighbour graph from a cell that failed
+    /// [`is_certain`](Self::is_certain). The 1-ring holds every Voronoi neighbour of a cell
+    /// normal (checked in the tests), so a cell with no better neighbour is the closest cell
+    /// overall; so is one that passes `is_certain`.
     #[inline(always)]
     fn descend(&self, mut best: usize, mut best_dot: f64, p: [f64; 3]) -> u32 {
-        let norm = dot(p, p).sqrt();
         loop {
-            if best_dot >= self.certain[best] * norm {
-                return best as u32;
-            }
             let mut next = best;
-            for &c in &self.ring[best] {
-                let d = dot(self.normals[c as usize], p);
+            for &c in &self.cells[best].ring {
+                let d = dot(self.cells[c as usize].normal, p);
                 if d > best_dot {
                     best_dot = d;
                     next = c as usize;
                 }
             }
-            if next == best {
-                return best as u32;
+            if next == best || self.is_certain(next, best_dot, p) {
+                return next as u32;
             }
             best = next;
         }
     }
 }
 
+/// The top 32 bits of an id, monotone in it.
+#[inline(always)]
+fn key32(id: u64) -> u32 {
+    (id >> 32) as u32
+}
+
 /// First position in `ids` whose id is ≥ `id` (`ids.len()` if none), by a branchless binary
 /// search: the loop count depends only on the length.
 #[inline(always)]
-fn lower_bound(ids: &[u64], id: u64) -> usize {
+fn lower_bound<T: Ord + Copy>(ids: &[T], id: T) -> usize {
     let mut base = 0;
     let mut size = ids.len();
     if size == 0 {
@@ -189,8 +282,8 @@ fn lower_bound(ids: &[u64], id: u64) -> usize {
     }
     while size > 1 {
         let half = size / 2;
-        let mid = base + half;
-        base = if ids[mid] < id { mid } else { base };
+        // A conditional move, not a branch: the comparison is a coin flip.
+        base = std::hint::select_unpredictable(ids[base + half] < id, base + half, base);
         size -= half;
     }
     base + usize::from(ids[base] < id)
