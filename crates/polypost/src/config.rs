@@ -23,9 +23,14 @@ pub enum BufferJoin {
 }
 
 impl Default for BufferJoin {
-    /// Round joins with 0.2 rad per segment (about 31 segments per full turn).
+    /// Round joins with π/4 per segment (8 segments per full turn): the arc then deviates
+    /// from a true circle by at most `β (1 − cos π/8)` ≈ 7.6 % of the buffer distance
+    /// (0.4 mm for the rgbd preset's β_pos), well below the simplification tolerance of
+    /// every paper preset, and buffering costs half as much as with 0.2 rad.
     fn default() -> Self {
-        BufferJoin::Round { max_angle: 0.2 }
+        BufferJoin::Round {
+            max_angle: std::f64::consts::FRAC_PI_4,
+        }
     }
 }
 
@@ -57,7 +62,7 @@ pub struct PostprocessConfig {
     pub min_area: f64,
     /// δ: holes with area below this, in m², are dropped. `0` = keep all.
     pub min_hole_area: f64,
-    /// Corner style of both buffers. Default: round, 0.2 rad per segment.
+    /// Corner style of both buffers. Default: round, π/4 per segment.
     pub buffer_join: BufferJoin,
 }
 

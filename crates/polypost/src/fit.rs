@@ -129,7 +129,7 @@ where
     let eigenvalues = order.map(|i| eig.eigenvalues[i].max(0.0));
     let scale = eigenvalues[2];
     // The plane is undetermined when the spread across the main direction vanishes.
-    if !(eigenvalues[1] > scale * 1e-18) || scale == 0.0 {
+    if scale == 0.0 || eigenvalues[1] <= scale * 1e-18 {
         return Err(PostError::DegeneratePoints {
             count,
             spread: eigenvalues[1],

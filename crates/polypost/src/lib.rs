@@ -64,6 +64,7 @@ mod pipeline;
 mod plane;
 mod polygon3;
 mod process;
+mod simplify;
 mod valid;
 
 pub use config::{BufferJoin, PostprocessConfig};
@@ -76,3 +77,8 @@ pub use process::{Output2, Output3, PostProcessor, SourcedPolygon2, SourcedPolyg
 
 /// Re-export of the `geo-types` types used in the 2D API.
 pub use geo_types::{Coord, LineString, MultiPolygon, Polygon};
+
+/// The README's example, compiled and run as a doctest.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+struct ReadmeDoctest;

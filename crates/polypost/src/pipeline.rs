@@ -3,11 +3,19 @@
 
 use geo::algorithm::bool_ops::FillRule;
 use geo::algorithm::buffer::{BufferStyle, LineJoin};
-use geo::{Area, BooleanOps, Buffer, Coord, LineString, MultiPolygon, OpType, Polygon, Simplify};
+use geo::{Area, BooleanOps, Buffer, Coord, LineString, MultiPolygon, OpType, Polygon};
 
 use crate::config::{BufferJoin, PostprocessConfig};
 use crate::diagnostics::{Diagnostics, DropReason};
+use crate::simplify::{SimplifyScratch, simplify_polygon};
 use crate::valid::{ValidityScratch, check_valid, fast_valid};
+
+/// Reusable buffers of one worker.
+#[derive(Debug, Default)]
+pub(crate) struct Scratch {
+    valid: ValidityScratch,
+    simplify: SimplifyScratch,
+}
 
 /// Runs the whole pipeline on `polygon` (input number `source`), recording what happened
 /// in `diag`. Every polygon returned is valid for `geo::Validation`, has a
@@ -17,7 +25,7 @@ pub(crate) fn process_polygon(
     config: &PostprocessConfig,
     source: u32,
     diag: &mut Diagnostics,
-    scratch: &mut ValidityScratch,
+    scratch: &mut Scratch,
 ) -> Vec<Polygon<f64>> {
     diag.input_polygons += 1;
     let polygon = match sanitize(polygon, diag) {
@@ -27,7 +35,7 @@ pub(crate) fn process_polygon(
             return Vec::new();
         }
     };
-    let mut parts = if fast_valid(&polygon, scratch) {
+    let mut parts = if fast_valid(&polygon, &mut scratch.valid) {
         vec![polygon]
     } else {
         diag.repaired_inputs += 1;
@@ -60,7 +68,7 @@ pub(crate) fn process_polygon(
             continue;
         }
         let part = finish(part, config.min_hole_area, diag);
-        match check_valid(&part, scratch) {
+        match check_valid(&part, &mut scratch.valid) {
             Ok(()) => out.push(part),
             Err(detail) => {
                 diag.drop_invalid(source, DropReason::InvalidAfterProcessing { detail });
@@ -141,12 +149,12 @@ fn simplify_parts(
     parts: Vec<Polygon<f64>>,
     alpha: f64,
     diag: &mut Diagnostics,
-    scratch: &mut ValidityScratch,
+    scratch: &mut Scratch,
 ) -> Vec<Polygon<f64>> {
     let mut out = Vec::with_capacity(parts.len());
     for part in parts {
-        let simple = part.simplify(alpha);
-        if fast_valid(&simple, scratch) {
+        let simple = simplify_polygon(&part, alpha, &mut scratch.simplify);
+        if fast_valid(&simple, &mut scratch.valid) {
             out.push(simple);
         } else {
             diag.repaired_after_simplify += 1;

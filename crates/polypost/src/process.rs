@@ -6,10 +6,9 @@ use rayon::prelude::*;
 use crate::PostError;
 use crate::config::PostprocessConfig;
 use crate::diagnostics::{Diagnostics, DropReason};
-use crate::pipeline::process_polygon;
+use crate::pipeline::{Scratch, process_polygon};
 use crate::plane::{Plane, PlaneFrame, norm};
 use crate::polygon3::Polygon3;
-use crate::valid::ValidityScratch;
 
 /// A processed 2D polygon and the input it came from.
 #[derive(Debug, Clone, PartialEq)]
@@ -101,12 +100,7 @@ impl PostProcessor {
     /// the outputs have `source` 0.
     pub fn process_2d(&self, polygon: &Polygon<f64>) -> Output2 {
         let mut diagnostics = Diagnostics::default();
-        let polygons = self.one_2d(
-            polygon,
-            0,
-            &mut diagnostics,
-            &mut ValidityScratch::default(),
-        );
+        let polygons = self.one_2d(polygon, 0, &mut diagnostics, &mut Scratch::default());
         Output2 {
             polygons,
             diagnostics,
@@ -122,7 +116,7 @@ impl PostProcessor {
         let per_input: Vec<(Vec<SourcedPolygon2>, Diagnostics)> = polygons
             .par_iter()
             .enumerate()
-            .map_init(ValidityScratch::default, |scratch, (i, p)| {
+            .map_init(Scratch::default, |scratch, (i, p)| {
                 let mut d = Diagnostics::default();
                 let out = self.one_2d(p, i as u32, &mut d, scratch);
                 (out, d)
@@ -141,13 +135,7 @@ impl PostProcessor {
     /// The outputs have `source` 0.
     pub fn process_3d(&self, polygon: &Polygon3, plane: &Plane) -> Output3 {
         let mut diagnostics = Diagnostics::default();
-        let polygons = self.one_3d(
-            polygon,
-            plane,
-            0,
-            &mut diagnostics,
-            &mut ValidityScratch::default(),
-        );
+        let polygons = self.one_3d(polygon, plane, 0, &mut diagnostics, &mut Scratch::default());
         Output3 {
             polygons,
             diagnostics,
@@ -176,7 +164,7 @@ impl PostProcessor {
             .par_iter()
             .zip(planes.par_iter())
             .enumerate()
-            .map_init(ValidityScratch::default, |scratch, (i, (p, plane))| {
+            .map_init(Scratch::default, |scratch, (i, (p, plane))| {
                 let mut d = Diagnostics::default();
                 let out = self.one_3d(p, plane, i as u32, &mut d, scratch);
                 (out, d)
@@ -195,7 +183,7 @@ impl PostProcessor {
         polygon: &Polygon<f64>,
         source: u32,
         diag: &mut Diagnostics,
-        scratch: &mut ValidityScratch,
+        scratch: &mut Scratch,
     ) -> Vec<SourcedPolygon2> {
         process_polygon(polygon, &self.config, source, diag, scratch)
             .into_iter()
@@ -209,7 +197,7 @@ impl PostProcessor {
         plane: &Plane,
         source: u32,
         diag: &mut Diagnostics,
-        scratch: &mut ValidityScratch,
+        scratch: &mut Scratch,
     ) -> Vec<SourcedPolygon3> {
         if !plane_is_usable(plane) {
             diag.input_polygons += 1;

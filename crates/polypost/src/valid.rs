@@ -29,6 +29,8 @@ struct Seg {
 #[derive(Debug, Default)]
 pub(crate) struct ValidityScratch {
     segs: Vec<Seg>,
+    /// `(min x, segment index)`, sorted: a compact sort key instead of moving `Seg`s.
+    order: Vec<(f64, u32)>,
     ring_lens: Vec<u32>,
 }
 
@@ -68,14 +70,21 @@ pub(crate) fn fast_valid(polygon: &Polygon<f64>, scratch: &mut ValidityScratch) 
             return false;
         }
     }
-    let segs = &mut scratch.segs;
-    segs.sort_unstable_by(|s, t| s.min.x.total_cmp(&t.min.x));
-    for i in 0..segs.len() {
-        let s = segs[i];
-        for t in &segs[i + 1..] {
-            if t.min.x > s.max.x {
+    let segs = &scratch.segs;
+    if u32::try_from(segs.len()).is_err() {
+        return false;
+    }
+    let order = &mut scratch.order;
+    order.clear();
+    order.extend(segs.iter().enumerate().map(|(i, s)| (s.min.x, i as u32)));
+    order.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
+    for (i, &(_, si)) in order.iter().enumerate() {
+        let s = segs[si as usize];
+        for &(min_x, ti) in &order[i + 1..] {
+            if min_x > s.max.x {
                 break;
             }
+            let t = &segs[ti as usize];
             if t.min.y > s.max.y || t.max.y < s.min.y {
                 continue;
             }

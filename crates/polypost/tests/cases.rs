@@ -1,5 +1,7 @@
 //! Hand-made cases with known answers.
 
+#![allow(clippy::unwrap_used)] // helpers outside #[test] fns unwrap known-good configs
+
 use geo::{Area, Validation, wkt};
 use polypost::{DropReason, Plane, Polygon, Polygon3, PostError, PostProcessor, PostprocessConfig};
 
