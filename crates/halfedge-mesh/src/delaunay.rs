@@ -1,19 +1,19 @@
 //! Delaunay triangulation of 2D point sets and of 3D clouds projected on a plane (2.5D).
 
-use crate::mesh::NO_TWIN;
-use crate::{HalfEdgeMesh, MeshError};
+use crate::{HalfEdgeMesh, MeshError, sweep};
 
 /// Summary of a triangulation: points left out because they coincide with another.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct DelaunayReport {
-    /// Input points left out because an equal (or, within 2^-51 in both coordinates,
-    /// nearly equal) point was already in the triangulation.
+    /// Input points left out because an equal point (same coordinates) is in the
+    /// triangulation; of each group of equal points the first one is kept.
     pub duplicate_points: usize,
 }
 
 impl HalfEdgeMesh {
-    /// Delaunay triangulation of a 2D point set (sweep-hull, exact orientation tests). Vertices are the
-    /// input points with `z = 0`, in input order; every triangle normal is `+z`.
+    /// Delaunay triangulation of a 2D point set (sweep-hull, exact orientation and in-circle
+    /// tests). Vertices are the input points with `z = 0`, in input order; every triangle
+    /// normal is `+z`.
     ///
     /// Coincident points are triangulated once; the others stay as unused vertices.
     ///
@@ -137,69 +137,56 @@ impl PlaneFrame {
 /// differences to the fourth power, which must stay finite.
 pub const MAX_COORDINATE: f64 = 1e60;
 
+/// Counter-clockwise triangles, their twin array and the duplicates report.
+type Triangulated = (Vec<[u32; 3]>, Vec<u32>, DelaunayReport);
+
 /// Triangulates `n` points given by `point(i)` and returns counter-clockwise triangles
 /// (indices into the caller's array) and their twin array.
 ///
-/// Uses delaunator (sweep-hull with exact orientation tests); its triangles run clockwise
-/// in a y-up frame, so each is reversed here and the twin array remapped.
-fn triangulate(
-    n: usize,
-    point: impl Fn(usize) -> [f64; 2],
-) -> Result<(Vec<[u32; 3]>, Vec<u32>, DelaunayReport), MeshError> {
+/// Our sweep-hull triangulation with exact orientation and in-circle tests
+/// (`crate::sweep`); cocircular ties are broken by point index, so the result is unique.
+fn triangulate(n: usize, point: impl Fn(usize) -> [f64; 2]) -> Result<Triangulated, MeshError> {
+    check_count(n)?;
+    let mut input = Vec::with_capacity(n);
+    for i in 0..n {
+        let p = point(i);
+        check_point(i, p)?;
+        input.push(p);
+    }
+    let result = sweep::triangulate(&input, None).map_err(|_| MeshError::Collinear { count: n })?;
+    let report = DelaunayReport {
+        duplicate_points: result.duplicates as usize,
+    };
+    Ok((result.triangles, result.halfedges, report))
+}
+
+/// The point count a triangulation accepts: at least 3, and few enough that the `6n`
+/// half-edge indices of up to `2n` triangles fit in `u32`.
+pub(crate) fn check_count(n: usize) -> Result<(), MeshError> {
     if n < 3 {
         return Err(MeshError::TooFewPoints { found: n });
     }
-    if n > u32::MAX as usize {
+    if n > (u32::MAX / 6) as usize {
         return Err(MeshError::TooLarge {
             what: "points",
             count: n,
         });
     }
-    let mut input = Vec::with_capacity(n);
-    for i in 0..n {
-        let [x, y] = point(i);
-        if !(x.is_finite() && y.is_finite()) {
-            return Err(MeshError::NonFinitePoint { index: i });
-        }
-        if x.abs().max(y.abs()) > MAX_COORDINATE {
-            return Err(MeshError::CoordinateTooLarge {
-                index: i,
-                value: if x.abs() > y.abs() { x } else { y },
-                max: MAX_COORDINATE,
-            });
-        }
-        input.push(delaunator::Point { x, y });
+    Ok(())
+}
+
+/// Point `index` must be finite and within [`MAX_COORDINATE`].
+#[inline]
+pub(crate) fn check_point(index: usize, [x, y]: [f64; 2]) -> Result<(), MeshError> {
+    if !(x.is_finite() && y.is_finite()) {
+        return Err(MeshError::NonFinitePoint { index });
     }
-    let result = delaunator::triangulate(&input);
-    let num_triangles = result.triangles.len() / 3;
-    if num_triangles == 0 {
-        return Err(MeshError::Collinear { count: n });
-    }
-    if result.triangles.len() >= u32::MAX as usize {
-        return Err(MeshError::TooLarge {
-            what: "triangles",
-            count: num_triangles,
+    if x.abs().max(y.abs()) > MAX_COORDINATE {
+        return Err(MeshError::CoordinateTooLarge {
+            index,
+            value: if x.abs() > y.abs() { x } else { y },
+            max: MAX_COORDINATE,
         });
     }
-    // Reversing [a, b, c] into [a, c, b] turns old half-edge j into new half-edge 2 − j.
-    let flip = |h: usize| (h - h % 3 + 2 - h % 3) as u32;
-    let triangles: Vec<[u32; 3]> = result
-        .triangles
-        .chunks_exact(3)
-        .map(|t| [t[0] as u32, t[2] as u32, t[1] as u32])
-        .collect();
-    let mut halfedges = vec![NO_TWIN; result.halfedges.len()];
-    for (h, &twin) in result.halfedges.iter().enumerate() {
-        if twin != delaunator::EMPTY {
-            halfedges[flip(h) as usize] = flip(twin);
-        }
-    }
-    let mut used = vec![false; n];
-    for &v in &result.triangles {
-        used[v] = true;
-    }
-    let report = DelaunayReport {
-        duplicate_points: used.iter().filter(|u| !**u).count(),
-    };
-    Ok((triangles, halfedges, report))
+    Ok(())
 }

@@ -5,7 +5,7 @@
 //! every half-edge ([`NO_TWIN`] on borders; half-edge `h` is in triangle `h / 3`) and unit
 //! triangle normals. Build one from
 //!
-//! * a 2D point set: [`HalfEdgeMesh::delaunay_2d`] (sweep-hull, exact orientation tests);
+//! * a 2D point set: [`HalfEdgeMesh::delaunay_2d`] (sweep-hull, exact orientation and in-circle tests);
 //! * a 3D cloud seen from a direction: [`HalfEdgeMesh::delaunay_25d`] (2.5D);
 //! * user triangles: [`HalfEdgeMesh::from_triangles`] and
 //!   [`HalfEdgeMesh::from_triangles_with_options`], with the three non-manifold edge
@@ -34,8 +34,14 @@ mod build;
 mod delaunay;
 mod error;
 mod mesh;
+mod sweep;
 
 pub use build::{BuildReport, DegeneratePolicy, MeshOptions, NonManifoldPolicy};
 pub use delaunay::{DelaunayReport, MAX_COORDINATE};
 pub use error::MeshError;
 pub use mesh::{HalfEdgeMesh, NO_TWIN, cross_normal, next_halfedge, prev_halfedge};
+pub use sweep::alpha::{AlphaComplexOptions, AlphaComplexReport};
+
+#[doc = include_str!("../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;
