@@ -28,6 +28,9 @@ fn random_unit_normals(count: usize, seed: u64) -> Vec<[f64; 3]> {
 
 fn bench_integrate<N: AsNormal>(c: &mut Criterion, group: &str, normals: &[N], fraction: f64) {
     let mut group = c.benchmark_group(group);
+    if normals.len() > 200_000 {
+        group.sample_size(20);
+    }
     let mut ga = GaussianAccumulator::new(4).expect("level 4");
     let mut kd = KdAccumulator::new(4).expect("level 4");
     for (name, parallelism) in [

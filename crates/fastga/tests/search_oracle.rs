@@ -157,20 +157,26 @@ fn one_ring_contains_every_voronoi_neighbour() {
     }
 }
 
+/// `integrate` searches in batches; its counts match exhaustive search, `find_cell` and the
+/// k-d tree (random normals hit no ties).
 #[test]
-fn integrate_bins_like_find_cell_and_the_kd_baseline() {
-    let normals = random_units(99, 20_000);
-    let mut ga = GaussianAccumulator::new(3).unwrap();
-    let mut kd = KdAccumulator::new(3).unwrap();
-    ga.integrate(&normals, 1.0, Parallelism::Sequential)
-        .unwrap();
-    kd.integrate(&normals, 1.0, Parallelism::Sequential)
-        .unwrap();
-    let mut expected = vec![0u64; ga.icosahedron().cell_count()];
-    for &p in &normals {
-        expected[ga.find_cell(p) as usize] += 1;
+fn integrate_bins_like_brute_force_find_cell_and_the_kd_baseline() {
+    let normals = random_units(99, 10_000);
+    for level in [3, 4] {
+        let mut ga = GaussianAccumulator::new(level).unwrap();
+        let mut kd = KdAccumulator::new(level).unwrap();
+        ga.integrate(&normals, 1.0, Parallelism::Sequential)
+            .unwrap();
+        kd.integrate(&normals, 1.0, Parallelism::Sequential)
+            .unwrap();
+        let mut brute = vec![0u64; ga.icosahedron().cell_count()];
+        let mut single = vec![0u64; ga.icosahedron().cell_count()];
+        for &p in &normals {
+            brute[ga.icosahedron().nearest_cell_brute_force(p) as usize] += 1;
+            single[ga.find_cell(p) as usize] += 1;
+        }
+        assert_eq!(ga.counts(), &brute[..]);
+        assert_eq!(ga.counts(), &single[..]);
+        assert_eq!(kd.counts(), ga.counts());
     }
-    assert_eq!(ga.counts(), &expected[..]);
-    // Random normals hit no ties, so the k-d tree agrees exactly.
-    assert_eq!(kd.counts(), ga.counts());
 }
