@@ -1,0 +1,206 @@
+//! Ray casting a scene into an organized point cloud with ground-truth labels.
+
+use rand::rngs::Xoshiro256PlusPlus;
+use rand::{RngExt, SeedableRng};
+use rayon::prelude::*;
+
+use crate::error::{SceneError, non_negative};
+use crate::face::Face;
+use crate::scene::{GroundTruthPlane, Scene};
+use crate::sensor::Sensor;
+use crate::vec3::{V3, add, axpy, dot, normalize, perpendicular_basis, scale};
+
+/// Sensor noise, deterministic by seed.
+///
+/// * **Radial** noise: the measured range gets `N(0, radial_sigma²)` added (metres).
+/// * **Tangential** noise: the beam leaves along the nominal ray direction tilted by two
+///   independent angles, each `N(0, tangential_sigma_mdeg²)` millidegrees, about two axes
+///   perpendicular to the ray. The beam's range (plus radial noise) is reported along the
+///   *nominal* direction, and the pixel's label is the plane the beam actually hit; so
+///   points leave their plane by about `range · angle · tan(incidence)`. SynPEB uses 0.5,
+///   1, 2 and 4 mdeg.
+///
+/// With both sigmas zero (the default) every point lies exactly on its plane.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Noise {
+    /// Standard deviation of the range noise in metres (default 0).
+    pub radial_sigma: f64,
+    /// Standard deviation of each angular jitter in millidegrees (default 0).
+    pub tangential_sigma_mdeg: f64,
+    /// Seed of the noise (default 0). Same seed, same noise, at any thread count.
+    pub seed: u64,
+}
+
+impl Noise {
+    /// No noise.
+    pub fn none() -> Self {
+        Self::default()
+    }
+
+    /// Noise with the given sigmas (metres, millidegrees) and seed.
+    pub fn new(radial_sigma: f64, tangential_sigma_mdeg: f64, seed: u64) -> Self {
+        Self {
+            radial_sigma,
+            tangential_sigma_mdeg,
+            seed,
+        }
+    }
+
+    /// Sets the radial sigma in metres.
+    pub fn with_radial_sigma(mut self, metres: f64) -> Self {
+        self.radial_sigma = metres;
+        self
+    }
+
+    /// Sets the tangential sigma in millidegrees.
+    pub fn with_tangential_sigma_mdeg(mut self, mdeg: f64) -> Self {
+        self.tangential_sigma_mdeg = mdeg;
+        self
+    }
+
+    /// Sets the seed.
+    pub fn with_seed(mut self, seed: u64) -> Self {
+        self.seed = seed;
+        self
+    }
+
+    fn is_zero(&self) -> bool {
+        self.radial_sigma == 0.0 && self.tangential_sigma_mdeg == 0.0
+    }
+}
+
+/// An organized scan: `rows × cols` points with their ground-truth plane labels.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ScanResult {
+    /// Image rows.
+    pub rows: usize,
+    /// Image columns.
+    pub cols: usize,
+    /// Points in the world frame (metres), row-major (`row · cols + col`); all three
+    /// coordinates NaN where the ray hit nothing.
+    pub points: Vec<[f64; 3]>,
+    /// Plane label per pixel, row-major; `-1` where the ray hit nothing.
+    pub labels: Vec<i32>,
+    /// Ground-truth planes of the scanned scene, sorted by label (see
+    /// [`Scene::ground_truth`]).
+    pub planes: Vec<GroundTruthPlane>,
+}
+
+impl ScanResult {
+    /// Number of pixels with a point.
+    pub fn num_valid(&self) -> usize {
+        self.labels.iter().filter(|&&l| l >= 0).count()
+    }
+
+    /// Points with each label, indexed by label (`counts[l]` for label `l`), up to the
+    /// largest label in [`ScanResult::planes`].
+    pub fn label_counts(&self) -> Vec<usize> {
+        let n = self.planes.last().map_or(0, |p| p.label as usize + 1);
+        let mut counts = vec![0; n];
+        for &l in &self.labels {
+            if let Some(c) = usize::try_from(l).ok().and_then(|l| counts.get_mut(l)) {
+                *c += 1;
+            }
+        }
+        counts
+    }
+}
+
+/// Nearest hit along a ray: `(range, face index)`.
+#[inline]
+fn cast(faces: &[Face], origin: V3, dir: V3) -> Option<(f64, usize)> {
+    let mut best: Option<(f64, usize)> = None;
+    for (i, f) in faces.iter().enumerate() {
+        let n = f.normal();
+        let denom = dot(n, dir);
+        if denom.abs() < 1e-12 {
+            continue;
+        }
+        let t = (f.offset() - dot(n, origin)) / denom;
+        if !(t > 1e-9) || best.is_some_and(|(bt, _)| t >= bt) {
+            continue;
+        }
+        let p = axpy(origin, t, dir);
+        if !f.bbox_contains(p, 1e-9 * (1.0 + t)) {
+            continue;
+        }
+        if f.contains_2d(f.frame().to_2d(p)) {
+            best = Some((t, i));
+        }
+    }
+    best
+}
+
+/// A standard normal pair by the Box–Muller transform.
+#[inline]
+fn normal_pair(rng: &mut Xoshiro256PlusPlus) -> (f64, f64) {
+    let u1 = 1.0 - rng.random::<f64>();
+    let u2 = rng.random::<f64>();
+    let r = (-2.0 * u1.ln()).sqrt();
+    let (s, c) = (std::f64::consts::TAU * u2).sin_cos();
+    (r * c, r * s)
+}
+
+impl Scene {
+    /// Scans the scene with `sensor`: one ray per pixel from the sensor position, nearest
+    /// hit over all faces (both sides of a face stop a ray), with `noise`.
+    ///
+    /// Rows run in parallel (rayon); each row has its own random stream derived from
+    /// `noise.seed` and the row, so the result is the same at any thread count.
+    ///
+    /// # Errors
+    /// Negative or non-finite noise sigmas.
+    ///
+    /// # Performance
+    /// Every ray is tested against every face, with a bounding-box test before the
+    /// point-in-polygon test: a 500 × 500 scan of a room with a dozen polyhedra
+    /// (≈ 70 faces) takes well under a second in a release build.
+    pub fn scan(&self, sensor: &impl Sensor, noise: &Noise) -> Result<ScanResult, SceneError> {
+        non_negative("radial_sigma", noise.radial_sigma)?;
+        non_negative("tangential_sigma_mdeg", noise.tangential_sigma_mdeg)?;
+        let (rows, cols) = (sensor.rows(), sensor.cols());
+        let mut points = vec![[f64::NAN; 3]; rows * cols];
+        let mut labels = vec![-1i32; rows * cols];
+        let pose = sensor.pose();
+        let origin = pose.translation();
+        let faces = self.faces();
+        let tangential_rad = (noise.tangential_sigma_mdeg * 1e-3).to_radians();
+        let noisy = !noise.is_zero();
+        points
+            .par_chunks_mut(cols)
+            .zip(labels.par_chunks_mut(cols))
+            .enumerate()
+            .for_each(|(row, (pts, lbs))| {
+                let mut rng = Xoshiro256PlusPlus::seed_from_u64(
+                    noise.seed ^ (row as u64 + 1).wrapping_mul(0x9E37_79B9_7F4A_7C15),
+                );
+                for col in 0..cols {
+                    let dir = pose.rotate(sensor.direction(row, col));
+                    let (mut beam, mut dr) = (dir, 0.0);
+                    if noisy {
+                        let (z0, z1) = normal_pair(&mut rng);
+                        let (z2, _) = normal_pair(&mut rng);
+                        dr = noise.radial_sigma * z0;
+                        if tangential_rad > 0.0 {
+                            let (e1, e2) = perpendicular_basis(dir);
+                            let a = (tangential_rad * z1).tan();
+                            let b = (tangential_rad * z2).tan();
+                            beam =
+                                normalize(add(dir, add(scale(e1, a), scale(e2, b)))).unwrap_or(dir);
+                        }
+                    }
+                    if let Some((t, fi)) = cast(faces, origin, beam) {
+                        pts[col] = axpy(origin, t + dr, dir);
+                        lbs[col] = faces[fi].label();
+                    }
+                }
+            });
+        Ok(ScanResult {
+            rows,
+            cols,
+            points,
+            labels,
+            planes: self.ground_truth(),
+        })
+    }
+}
