@@ -240,13 +240,13 @@ pub(crate) struct Frame {
 
 impl Frame {
     #[inline]
-    pub(crate) fn to_2d(&self, p: V3) -> V2 {
+    pub(crate) fn to_2d(self, p: V3) -> V2 {
         let d = sub(p, self.origin);
         [dot(d, self.u), dot(d, self.v)]
     }
 
     #[inline]
-    pub(crate) fn to_3d(&self, q: V2) -> V3 {
+    pub(crate) fn to_3d(self, q: V2) -> V3 {
         add(add(self.origin, scale(self.u, q[0])), scale(self.v, q[1]))
     }
 }

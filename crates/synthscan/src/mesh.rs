@@ -46,7 +46,7 @@ impl Scene {
     /// `max_edge` not `> 0` (NaN included), a mesh that would exceed
     /// [`MAX_MESH_TRIANGLES`], or a numerically degenerate face.
     pub fn to_mesh(&self, max_edge: f64) -> Result<LabelledMesh, SceneError> {
-        if !(max_edge > 0.0) {
+        if max_edge.is_nan() || max_edge <= 0.0 {
             return Err(SceneError::InvalidParameter {
                 name: "max_edge",
                 value: max_edge,

@@ -117,7 +117,7 @@ fn cast(faces: &[Face], origin: V3, dir: V3) -> Option<(f64, usize)> {
             continue;
         }
         let t = (f.offset() - dot(n, origin)) / denom;
-        if !(t > 1e-9) || best.is_some_and(|(bt, _)| t >= bt) {
+        if t.is_nan() || t <= 1e-9 || best.is_some_and(|(bt, _)| t >= bt) {
             continue;
         }
         let p = axpy(origin, t, dir);
