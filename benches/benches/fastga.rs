@@ -31,8 +31,8 @@ fn bench_integrate<N: AsNormal>(c: &mut Criterion, group: &str, normals: &[N], f
     if normals.len() > 200_000 {
         group.sample_size(20);
     }
-    let mut ga = GaussianAccumulator::new(4).expect("level 4");
-    let mut kd = KdAccumulator::new(4).expect("level 4");
+    let mut ga = GaussianAccumulator::new(4).unwrap_or_else(|e| unreachable!("level 4: {e}"));
+    let mut kd = KdAccumulator::new(4).unwrap_or_else(|e| unreachable!("level 4: {e}"));
     for (name, parallelism) in [
         ("1 thread", Parallelism::Sequential),
         ("rayon", Parallelism::Rayon),
@@ -72,9 +72,9 @@ fn peaks_level_5(c: &mut Criterion) {
         }
     }
     let config = FastGaConfig::synpeb();
-    let mut ga = GaussianAccumulator::new(5).expect("level 5");
+    let mut ga = GaussianAccumulator::new(5).unwrap_or_else(|e| unreachable!("level 5: {e}"));
     ga.integrate(&normals, 1.0, Parallelism::Sequential)
-        .expect("valid fraction");
+        .unwrap_or_else(|e| unreachable!("valid fraction: {e}"));
     c.bench_function("peaks + clustering, level 5", |b| {
         b.iter(|| {
             let peaks = ga.find_peaks(config.value_threshold);
@@ -93,18 +93,22 @@ fn integrate_pc_01(c: &mut Criterion) {
     let Some(path) = test_fixtures::fixture("synpeb/pc_01.pcd") else {
         return;
     };
-    let pcd = polylidar_io::read_pcd(&path).expect("readable pc_01.pcd");
-    let cloud =
-        opc_mesh::OrganizedPointCloud::new(pcd.rows, pcd.cols, pcd.points).expect("organized");
+    let pcd =
+        polylidar_io::read_pcd(&path).unwrap_or_else(|e| unreachable!("readable pc_01.pcd: {e}"));
+    let cloud = opc_mesh::OrganizedPointCloud::new(pcd.rows, pcd.cols, pcd.points)
+        .unwrap_or_else(|e| unreachable!("organized: {e}"));
     let meshed = cloud
         .mesh(&opc_mesh::OpcMeshOptions::default())
-        .expect("meshable");
+        .unwrap_or_else(|e| unreachable!("meshable: {e}"));
     let normals = meshed
         .mesh
         .triangle_normals()
-        .expect("normals computed")
+        .unwrap_or_else(|| unreachable!("normals are computed by default"))
         .to_vec();
-    let name = format!("integrate pc_01 triangle normals ({}), level 4", normals.len());
+    let name = format!(
+        "integrate pc_01 triangle normals ({}), level 4",
+        normals.len()
+    );
     bench_integrate(c, &name, &normals, 1.0);
     bench_integrate(c, &format!("{name}, 12 % sample"), &normals, 0.12);
 }
