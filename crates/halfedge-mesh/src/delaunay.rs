@@ -157,7 +157,7 @@ fn triangulate(n: usize, point: impl Fn(usize) -> [f64; 2]) -> Result<Triangulat
     let report = DelaunayReport {
         duplicate_points: result.duplicates as usize,
     };
-    Ok((result.triangles, result.halfedges, report))
+    Ok((result.caller_triangles(), result.halfedges, report))
 }
 
 /// The point count a triangulation accepts: at least 3, and few enough that the `6n`

@@ -283,19 +283,22 @@ fn strip_part(points: &[[f64; 2]], alpha: f64, strips: &Strips, i: usize) -> Par
             .map(|(k, p)| (k as u32, *p))
             .unzip()
     };
-    let in_core = |v: u32| strips.in_core(i, points[v as usize][0]);
     let tri = match triangulate(&coords, Some(&ids)) {
         Ok(tri) => tri,
-        Err(Collinear) => return collinear_part(points, &ids, in_core),
+        Err(Collinear) => {
+            return collinear_part(points, &ids, |v| strips.in_core(i, points[v as usize][0]));
+        }
     };
-    let local_in_core = |l: u32| strips.in_core(i, coords[l as usize][0]);
+    // Work on the sweep's positions: coordinates in insertion order, ranks = global ids.
+    let (xy, gid) = (&tri.coords, &tri.ranks);
+    let in_core = |p: u32| strips.in_core(i, xy[p as usize][0]);
     let core_points = coords.iter().filter(|p| strips.in_core(i, p[0])).count();
-    let distinct_core = tri.vertices.iter().filter(|&&l| local_in_core(l)).count();
+    let distinct_core = (0..xy.len() as u32).filter(|&p| in_core(p)).count();
     let hull = tri
         .hull
         .iter()
-        .filter(|&&l| local_in_core(l))
-        .map(|&l| ids[l as usize])
+        .filter(|&&p| in_core(p))
+        .map(|&p| gid[p as usize])
         .collect();
 
     // Pass 1: owned triangles within α get a local index; edges are checked for length.
@@ -304,18 +307,20 @@ fn strip_part(points: &[[f64; 2]], alpha: f64, strips: &Strips, i: usize) -> Par
         t * t
     };
     let mut tiny_edge = false;
-    let mut local = vec![NO_TWIN; tri.triangles.len()];
-    let mut triangles = Vec::with_capacity(tri.triangles.len());
-    let mut rotations = Vec::with_capacity(tri.triangles.len());
-    for (t, v) in tri.triangles.iter().enumerate() {
-        let g = v.map(|l| ids[l as usize]);
+    let num_triangles = tri.tris.len() / 3;
+    let mut local = vec![NO_TWIN; num_triangles];
+    let mut triangles = Vec::with_capacity(num_triangles);
+    let mut rotations: Vec<u8> = Vec::with_capacity(num_triangles);
+    for (t, v) in tri.tris.chunks_exact(3).enumerate() {
+        let g = [gid[v[0] as usize], gid[v[1] as usize], gid[v[2] as usize]];
         let r = rotation(g);
-        let [a, b, c] = [0, 1, 2].map(|k| coords[v[(r + k) % 3] as usize]);
+        let (r1, r2) = (NEXT[r], NEXT[NEXT[r]]);
+        let [a, b, c] = [xy[v[r] as usize], xy[v[r1] as usize], xy[v[r2] as usize]];
         let (ab, bc, ca) = (dist2(a, b), dist2(b, c), dist2(c, a));
         tiny_edge |= ab.min(bc).min(ca) < tiny2;
-        if local_in_core(v[r]) && within_alpha(a, b, c, ab, bc, ca, alpha) {
+        if in_core(v[r]) && within_alpha(a, b, c, ab, bc, ca, alpha) {
             local[t] = triangles.len() as u32;
-            triangles.push([g[r], g[(r + 1) % 3], g[(r + 2) % 3]]);
+            triangles.push([g[r], g[r1], g[r2]]);
             rotations.push(r as u8);
         }
     }
@@ -330,17 +335,17 @@ fn strip_part(points: &[[f64; 2]], alpha: f64, strips: &Strips, i: usize) -> Par
         let (v, r) = (triangles[l as usize], rotations[l as usize] as usize);
         for k in 0..3 {
             let h = 3 * l as usize + k;
-            // Corner k of the rotated triangle is corner (r + k) % 3 of the band's.
-            let twin = tri.halfedges[3 * t + (r + k) % 3];
+            // Corner k of the rotated triangle is corner (r + k) % 3 of the sweep's.
+            let twin = tri.halfedges[3 * t + ROTATE[r][k]];
             if twin != NO_TWIN {
                 let lu = local[twin as usize / 3];
                 if lu != NO_TWIN {
                     let ru = rotations[lu as usize] as usize;
-                    halfedges[h] = 3 * lu + ((twin as usize % 3 + 3 - ru) % 3) as u32;
+                    halfedges[h] = 3 * lu + UNROTATE[ru][twin as usize % 3];
                     continue;
                 }
             }
-            let (p, q) = (v[k], v[(k + 1) % 3]);
+            let (p, q) = (v[k], v[NEXT[k]]);
             seams.push(((u64::from(p.min(q)) << 32) | u64::from(p.max(q)), h as u32));
         }
     }
@@ -375,6 +380,13 @@ fn collinear_part(points: &[[f64; 2]], ids: &[u32], in_core: impl Fn(u32) -> boo
         tiny_edge: false,
     }
 }
+
+/// The corner after each corner.
+const NEXT: [usize; 3] = [1, 2, 0];
+/// `ROTATE[r][k]`: the corner of a triangle that is corner `k` once rotated by `r`.
+const ROTATE: [[usize; 3]; 3] = [[0, 1, 2], [1, 2, 0], [2, 0, 1]];
+/// `UNROTATE[r][c]`: the inverse of [`ROTATE`].
+const UNROTATE: [[u32; 3]; 3] = [[0, 1, 2], [2, 0, 1], [1, 2, 0]];
 
 /// Position of the smallest vertex id.
 #[inline]

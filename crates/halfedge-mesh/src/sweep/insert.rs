@@ -72,13 +72,9 @@ impl<'a> Sweep<'a> {
         sweep
     }
 
-    /// Triangles, twins and the hull (counter-clockwise), in insertion positions.
-    pub fn finish(self) -> (Vec<[u32; 3]>, Vec<u32>, Vec<u32>) {
-        let triangles = self
-            .tris
-            .chunks_exact(3)
-            .map(|t| [t[0], t[1], t[2]])
-            .collect();
+    /// Triangles (three vertices each), twins and the hull (counter-clockwise), in
+    /// insertion positions.
+    pub fn finish(self) -> (Vec<u32>, Vec<u32>, Vec<u32>) {
         let mut hull = Vec::new();
         let mut v = self.hull_start;
         loop {
@@ -88,7 +84,7 @@ impl<'a> Sweep<'a> {
                 break;
             }
         }
-        (triangles, self.twins, hull)
+        (self.tris, self.twins, hull)
     }
 
     #[inline(always)]
@@ -213,47 +209,29 @@ impl<'a> Sweep<'a> {
     }
 
     /// Restores the Delaunay property around a new point: `a` is a half-edge opposite it.
-    fn legalize(&mut self, mut a: u32) {
-        loop {
-            let b = self.twins[a as usize];
-            if b != NO_TWIN {
-                // Triangle [A, B, P] holds a = A → B; its twin's triangle [B, A, Q] holds b.
-                let (ra, rb) = ((a % 3) as usize, (b % 3) as usize);
-                let (a0, b0) = (a - ra as u32, b - rb as u32);
-                let ar = a0 + PREV[ra];
-                let bl = b0 + PREV[rb];
-                let va = self.tris[a as usize];
-                let vb = self.tris[(a0 + NEXT[ra]) as usize];
-                let vp = self.tris[ar as usize];
-                let vq = self.tris[bl as usize];
-                let pts = [
-                    self.coords[va as usize],
-                    self.coords[vb as usize],
-                    self.coords[vp as usize],
-                    self.coords[vq as usize],
-                ];
-                let ranks = self.ranks;
-                if self
-                    .filter
-                    .in_circle(pts, || [va, vb, vp, vq].map(|v| ranks[v as usize]))
-                {
-                    // Flip A–B to P–Q: [Q, B, P] in a's triangle, [P, A, Q] in b's.
-                    self.tris[a as usize] = vq;
-                    self.tris[b as usize] = vp;
-                    let (hbl, har) = (self.twins[bl as usize], self.twins[ar as usize]);
-                    self.link(a, hbl);
-                    self.link(b, har);
-                    self.twins[ar as usize] = bl;
-                    self.twins[bl as usize] = ar;
-                    self.stack.push(b0 + NEXT[rb]);
-                    continue;
-                }
-            }
-            match self.stack.pop() {
-                Some(h) => a = h,
-                None => return,
-            }
-        }
+    fn legalize(&mut self, a: u32) {
+        let Self {
+            coords,
+            ranks,
+            tris,
+            twins,
+            hull_edge,
+            filter,
+            stack,
+            ..
+        } = self;
+        legalize(
+            Mesh {
+                coords,
+                ranks,
+                tris,
+                twins,
+                hull_edge,
+            },
+            *filter,
+            stack,
+            a,
+        );
     }
 
     /// Inserts `p`, which lies inside the hull or on its boundary, starting the search
@@ -375,5 +353,74 @@ impl<'a> Sweep<'a> {
 
     fn set_triangle(&mut self, h0: u32, v: [u32; 3]) {
         self.tris[h0 as usize..h0 as usize + 3].copy_from_slice(&v);
+    }
+}
+
+/// The arrays the legalization works on, borrowed apart so that they cannot alias.
+struct Mesh<'m> {
+    coords: &'m [[f64; 2]],
+    ranks: &'m [u32],
+    tris: &'m mut [u32],
+    twins: &'m mut [u32],
+    hull_edge: &'m mut [u32],
+}
+
+/// Flips edges until the triangles around the new point are Delaunay; `a` is a half-edge
+/// opposite the new point, `stack` holds the others still to check.
+fn legalize(m: Mesh<'_>, filter: InCircleFilter, stack: &mut Vec<u32>, mut a: u32) {
+    let Mesh {
+        coords,
+        ranks,
+        tris,
+        twins,
+        hull_edge,
+    } = m;
+    loop {
+        let b = twins[a as usize];
+        if b != NO_TWIN {
+            // Triangle [A, B, P] holds a = A → B; its twin's triangle [B, A, Q] holds b.
+            let (ra, rb) = ((a % 3) as usize, (b % 3) as usize);
+            let (a0, b0) = (a - ra as u32, b - rb as u32);
+            let ar = a0 + PREV[ra];
+            let bl = b0 + PREV[rb];
+            let va = tris[a as usize];
+            let vb = tris[(a0 + NEXT[ra]) as usize];
+            let vp = tris[ar as usize];
+            let vq = tris[bl as usize];
+            let (pa, pb, pp, pq) = (
+                coords[va as usize],
+                coords[vb as usize],
+                coords[vp as usize],
+                coords[vq as usize],
+            );
+            if filter.in_circle(pa, pb, pp, pq, || {
+                [va, vb, vp, vq].map(|v| ranks[v as usize])
+            }) {
+                // Flip A–B to P–Q: [Q, B, P] in a's triangle, [P, A, Q] in b's.
+                tris[a as usize] = vq;
+                tris[b as usize] = vp;
+                let (hbl, har) = (twins[bl as usize], twins[ar as usize]);
+                twins[a as usize] = hbl;
+                if hbl != NO_TWIN {
+                    twins[hbl as usize] = a;
+                } else {
+                    hull_edge[vq as usize] = a;
+                }
+                twins[b as usize] = har;
+                if har != NO_TWIN {
+                    twins[har as usize] = b;
+                } else {
+                    hull_edge[vp as usize] = b;
+                }
+                twins[ar as usize] = bl;
+                twins[bl as usize] = ar;
+                stack.push(b0 + NEXT[rb]);
+                continue;
+            }
+        }
+        match stack.pop() {
+            Some(h) => a = h,
+            None => return,
+        }
     }
 }

@@ -23,20 +23,36 @@ pub(crate) mod predicates;
 
 pub(crate) use order::Collinear;
 
-/// A triangulation of a point set, indices into the caller's points.
+/// A triangulation of a point set. Vertices are *positions*: indices into the distinct
+/// points in insertion order (`coords`, `input`, `ranks`).
 #[derive(Debug, Clone)]
 pub(crate) struct Triangulation {
-    /// Counter-clockwise triangles.
-    pub triangles: Vec<[u32; 3]>,
+    /// Counter-clockwise triangles, three positions each.
+    pub tris: Vec<u32>,
     /// Twin of every half-edge, [`NO_TWIN`](crate::NO_TWIN) on the hull.
     pub halfedges: Vec<u32>,
-    /// The boundary vertices in counter-clockwise order, points lying on a hull edge
+    /// The boundary positions in counter-clockwise order, points lying on a hull edge
     /// included.
     pub hull: Vec<u32>,
-    /// The distinct points triangulated (caller indices, insertion order).
-    pub vertices: Vec<u32>,
+    /// Caller index of each position.
+    pub input: Vec<u32>,
+    /// Id of each position (the caller's `ids`, or its index).
+    pub ranks: Vec<u32>,
+    /// Coordinates of each position.
+    pub coords: Vec<[f64; 2]>,
     /// Points left out as exact duplicates of a point kept.
     pub duplicates: u32,
+}
+
+impl Triangulation {
+    /// The triangles as caller indices.
+    pub fn caller_triangles(&self) -> Vec<[u32; 3]> {
+        let map = |v: u32| self.input[v as usize];
+        self.tris
+            .chunks_exact(3)
+            .map(|t| [map(t[0]), map(t[1]), map(t[2])])
+            .collect()
+    }
 }
 
 /// Delaunay triangulation of `points`. `ids` (one per point) are the global point ids
@@ -58,14 +74,15 @@ pub(crate) fn triangulate(
     for p in 3..order.coords.len() as u32 {
         sweep.insert(p);
     }
-    let (triangles, halfedges, hull) = sweep.finish();
-    let map = |v: u32| order.input[v as usize];
+    let (tris, halfedges, hull) = sweep.finish();
     Ok(Triangulation {
-        triangles: triangles.iter().map(|t| t.map(map)).collect(),
+        tris,
         halfedges,
-        hull: hull.into_iter().map(map).collect(),
+        hull,
+        input: order.input,
+        ranks,
+        coords: order.coords,
         duplicates: order.duplicates,
-        vertices: order.input,
     })
 }
 

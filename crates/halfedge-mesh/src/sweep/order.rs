@@ -34,37 +34,46 @@ pub(super) fn insertion_order(
         None => [(a[0] + b[0] + c[0]) / 3.0, (a[1] + b[1] + c[1]) / 3.0],
     };
 
-    // Non-negative f64 distances order like their bit patterns.
-    let mut keyed: Vec<(u64, u32)> = points
+    // Sort on (distance as f32, index) packed in a u64: non-negative floats order like
+    // their bit patterns, and distances are scaled to [0, 1] so that none overflows f32.
+    // Rounding may put nearly equidistant points slightly out of order; such a point can
+    // fall inside the hull and is then inserted by location instead.
+    let dists: Vec<f64> = points.iter().map(|p| dist2(*p, centre)).collect();
+    let max = dists.iter().fold(0.0f64, |m, &d| m.max(d));
+    let scale = if max > 0.0 { 1.0 / max } else { 0.0 };
+    let mut keyed: Vec<u64> = dists
         .iter()
         .enumerate()
-        .map(|(i, p)| (dist2(*p, centre).to_bits(), i as u32))
+        .map(|(i, d)| (u64::from(((d * scale) as f32).to_bits()) << 32) | i as u64)
         .collect();
-    keyed.sort_unstable_by_key(|k| k.0);
+    keyed.sort_unstable();
 
     let n = points.len();
     let mut input = Vec::with_capacity(n);
     input.extend([i0, i1, i2].map(|i| i as u32));
     let mut duplicates = 0;
-    // Equal points have equal distances: look for duplicates only inside runs of equal keys.
-    for run in keyed.chunk_by_mut(|x, y| x.0 == y.0) {
+    // Equal points have equal keys: look for duplicates only inside runs of equal keys.
+    for run in keyed.chunk_by_mut(|x, y| x >> 32 == y >> 32) {
         if run.len() > 1 {
-            run.sort_unstable_by(|x, y| {
-                let (p, q) = (points[x.1 as usize], points[y.1 as usize]);
-                p[0].total_cmp(&q[0])
+            run.sort_unstable_by(|&x, &y| {
+                let (x, y) = (x as u32 as usize, y as u32 as usize);
+                let (p, q) = (points[x], points[y]);
+                dists[x]
+                    .total_cmp(&dists[y])
+                    .then(p[0].total_cmp(&q[0]))
                     .then(p[1].total_cmp(&q[1]))
-                    .then(id(x.1 as usize).cmp(&id(y.1 as usize)))
+                    .then(id(x).cmp(&id(y)))
             });
         }
         let mut last: Option<[f64; 2]> = None;
-        for &(_, i) in run.iter() {
-            let p = points[i as usize];
+        for &key in run.iter() {
+            let i = key as u32 as usize;
+            let p = points[i];
             if last == Some(p) {
                 duplicates += 1;
                 continue;
             }
             last = Some(p);
-            let i = i as usize;
             if i != i0 && i != i1 && i != i2 {
                 input.push(i as u32);
             }

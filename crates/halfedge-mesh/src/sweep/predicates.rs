@@ -59,8 +59,14 @@ impl InCircleFilter {
 
     /// [`in_circle`], deciding most cases from the float determinant alone.
     #[inline(always)]
-    pub fn in_circle(self, pts: [[f64; 2]; 4], ranks: impl FnOnce() -> [u32; 4]) -> bool {
-        let [a, b, c, d] = pts;
+    pub fn in_circle(
+        self,
+        a: [f64; 2],
+        b: [f64; 2],
+        c: [f64; 2],
+        d: [f64; 2],
+        ranks: impl FnOnce() -> [u32; 4],
+    ) -> bool {
         let (adx, ady) = (a[0] - d[0], a[1] - d[1]);
         let (bdx, bdy) = (b[0] - d[0], b[1] - d[1]);
         let (cdx, cdy) = (c[0] - d[0], c[1] - d[1]);
@@ -75,7 +81,7 @@ impl InCircleFilter {
         } else if -det > self.bound {
             false
         } else {
-            in_circle(pts, ranks)
+            in_circle([a, b, c, d], ranks)
         }
     }
 }
@@ -132,10 +138,8 @@ mod tests {
             [1.0 + 1e-16, -1e-15],
         ] {
             let pts = [tri[0], tri[1], tri[2], d];
-            assert_eq!(
-                filter.in_circle(pts, || [0, 1, 2, 3]),
-                in_circle(pts, || [0, 1, 2, 3])
-            );
+            let fast = filter.in_circle(tri[0], tri[1], tri[2], d, || [0, 1, 2, 3]);
+            assert_eq!(fast, in_circle(pts, || [0, 1, 2, 3]));
         }
     }
 

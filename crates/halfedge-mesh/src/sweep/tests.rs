@@ -10,6 +10,11 @@ use crate::mesh::NO_TWIN;
 /// Checks every invariant of `tri` against brute force; returns nothing, panics on failure.
 pub(super) fn check(points: &[[f64; 2]], tri: &Triangulation) {
     let xy = |v: u32| points[v as usize];
+    let triangles = tri.caller_triangles();
+    let hull: Vec<u32> = tri.hull.iter().map(|&p| tri.input[p as usize]).collect();
+    for (p, &i) in tri.input.iter().enumerate() {
+        assert_eq!(tri.coords[p], points[i as usize]);
+    }
     let n_distinct = {
         let mut p: Vec<(u64, u64)> = points
             .iter()
@@ -21,9 +26,9 @@ pub(super) fn check(points: &[[f64; 2]], tri: &Triangulation) {
     };
     assert_eq!(points.len() - tri.duplicates as usize, n_distinct);
     // Triangle count of any triangulation: 2n − 2 − h.
-    assert_eq!(tri.triangles.len(), 2 * n_distinct - 2 - tri.hull.len());
+    assert_eq!(triangles.len(), 2 * n_distinct - 2 - hull.len());
     let mut used = vec![false; points.len()];
-    for (t, v) in tri.triangles.iter().enumerate() {
+    for (t, v) in triangles.iter().enumerate() {
         assert!(
             orient(xy(v[0]), xy(v[1]), xy(v[2])) > 0.0,
             "triangle {t} {v:?} not CCW"
@@ -63,8 +68,8 @@ pub(super) fn check(points: &[[f64; 2]], tri: &Triangulation) {
     }
     assert_eq!(used.iter().filter(|u| **u).count(), n_distinct);
     for (h, &twin) in tri.halfedges.iter().enumerate() {
-        let org = |h: usize| tri.triangles[h / 3][h % 3];
-        let dst = |h: usize| tri.triangles[h / 3][(h + 1) % 3];
+        let org = |h: usize| triangles[h / 3][h % 3];
+        let dst = |h: usize| triangles[h / 3][(h + 1) % 3];
         if twin == NO_TWIN {
             continue;
         }
@@ -73,15 +78,15 @@ pub(super) fn check(points: &[[f64; 2]], tri: &Triangulation) {
         assert_eq!((org(h), dst(h)), (dst(twin), org(twin)));
     }
     let border = tri.halfedges.iter().filter(|t| **t == NO_TWIN).count();
-    assert_eq!(border, tri.hull.len());
+    assert_eq!(border, hull.len());
     // The hull is convex (weakly: collinear points on its edges stay) and counter-clockwise.
-    let h = tri.hull.len();
+    let h = hull.len();
     for i in 0..h {
-        let [a, b, c] = [i, (i + 1) % h, (i + 2) % h].map(|k| xy(tri.hull[k]));
+        let [a, b, c] = [i, (i + 1) % h, (i + 2) % h].map(|k| xy(hull[k]));
         assert!(
             orient(a, b, c) >= 0.0,
             "hull turns right at {}",
-            tri.hull[(i + 1) % h]
+            hull[(i + 1) % h]
         );
     }
 }
@@ -99,9 +104,9 @@ fn small_cases() {
     let with_dups = [[0.0, 0.0], [1.0, 0.0], [0.0, 0.0], [0.0, 1.0], [1.0, 0.0]];
     let tri = triangulate(&with_dups, None).unwrap();
     assert_eq!(tri.duplicates, 2);
-    assert_eq!(tri.triangles.len(), 1);
+    assert_eq!(tri.tris.len(), 3);
     // The smallest index of each group of duplicates is kept.
-    let mut v = tri.triangles[0];
+    let mut v = tri.caller_triangles()[0];
     v.sort_unstable();
     assert_eq!(v, [0, 1, 3]);
     assert!(triangulate(&[[1.0, 1.0]; 4], None).is_err());
@@ -114,7 +119,7 @@ fn cocircular_grids() {
         let points = grid(n, step);
         let tri = triangulate(&points, None).unwrap();
         check(&points, &tri);
-        assert_eq!(tri.triangles.len(), 2 * (n - 1) * (n - 1));
+        assert_eq!(tri.tris.len(), 6 * (n - 1) * (n - 1));
     }
 }
 
@@ -215,19 +220,21 @@ fn any_order_same_result(points: &[[f64; 2]]) {
     for p in 3..distinct.len() as u32 {
         sweep.insert(p);
     }
-    let (triangles, halfedges, hull) = sweep.finish();
+    let (tris, halfedges, hull) = sweep.finish();
     let unordered = Triangulation {
-        triangles,
+        tris,
         halfedges,
         hull,
-        vertices: Vec::new(),
+        input: ranks.clone(),
+        ranks: ranks.clone(),
+        coords: distinct.clone(),
         duplicates: 0,
     };
     check(&distinct, &unordered);
     let sorted = triangulate(&distinct, None).unwrap();
     assert_eq!(
-        triangle_set(&unordered.triangles),
-        triangle_set(&sorted.triangles)
+        triangle_set(&unordered.caller_triangles()),
+        triangle_set(&sorted.caller_triangles())
     );
 }
 
