@@ -10,6 +10,8 @@
 //! `DELAUNAY_BENCH_ONCE=<input>/<case> valgrind --tool=callgrind <bench binary>`, e.g.
 //! `caholes/ours_serial`; case names are the criterion ids below.
 
+#![allow(clippy::expect_used)]
+
 use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};

@@ -6,6 +6,9 @@
 //! triangle normals. Build one from
 //!
 //! * a 2D point set: [`HalfEdgeMesh::delaunay_2d`] (sweep-hull, exact orientation and in-circle tests);
+//! * the α-complex of a 2D point set, the Delaunay triangles of circumradius at most α:
+//!   [`HalfEdgeMesh::alpha_complex_2d`] (parallel over strips, same triangles as
+//!   `delaunay_2d` filtered by circumradius, whatever the thread count);
 //! * a 3D cloud seen from a direction: [`HalfEdgeMesh::delaunay_25d`] (2.5D);
 //! * user triangles: [`HalfEdgeMesh::from_triangles`] and
 //!   [`HalfEdgeMesh::from_triangles_with_options`], with the three non-manifold edge
