@@ -6,6 +6,8 @@
 //! cargo bench -p polylidar-benches --bench smoothing --features mesh-smooth-gpu/gpu    # + GPU
 //! ```
 //!
+//! CPU rows reuse one `CpuSmoother` per backend (buffers kept across calls, like the GPU
+//! rows); the result (a new cloud, or per-slot normals) is allocated each call.
 //! `CpuParallel` uses rayon's global pool: set `RAYON_NUM_THREADS=2` for the issue's
 //! 2-thread rows on a larger machine. Data: `../shared/fixtures/synpeb/pc_01.pcd`
 //! (500 × 500) and `realsense/rgbd_opc.npy` (120 × 212); synthetic clouds of the same sizes
@@ -17,7 +19,7 @@ use std::hint::black_box;
 use std::time::Duration;
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
-use mesh_smooth_gpu::{Backend, BilateralOptions, GpuSmoother, LaplacianOptions};
+use mesh_smooth_gpu::{Backend, BilateralOptions, CpuSmoother, GpuSmoother, LaplacianOptions};
 use opc_mesh::OrganizedPointCloud;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -92,13 +94,12 @@ fn paper_tables(c: &mut Criterion) {
                 .with_iterations(iterations);
             for backend in CPU_BACKENDS {
                 let id = format!("{name}/{backend:?}/{iterations}it");
+                let mut cpu = CpuSmoother::new(backend).expect("a CPU backend");
                 group.bench_function(BenchmarkId::new("laplacian", &id), |b| {
-                    let options = laplacian.with_backend(backend);
-                    b.iter(|| mesh_smooth_gpu::laplacian_filter(black_box(cloud), &options));
+                    b.iter(|| cpu.laplacian(black_box(cloud), &laplacian));
                 });
                 group.bench_function(BenchmarkId::new("bilateral", &id), |b| {
-                    let options = bilateral.with_backend(backend);
-                    b.iter(|| mesh_smooth_gpu::bilateral_filter(black_box(cloud), &options));
+                    b.iter(|| cpu.bilateral(black_box(cloud), &bilateral));
                 });
             }
             if let Some(gpu) = gpu.as_mut() {
@@ -132,6 +133,7 @@ fn issue_rows(c: &mut Criterion) {
         .sample_size(20)
         .measurement_time(Duration::from_secs(4));
     for backend in CPU_BACKENDS {
+        let mut cpu = CpuSmoother::new(backend).expect("a CPU backend");
         let laplacian = LaplacianOptions::new()
             .with_kernel(5)
             .with_lambda(1.0)
@@ -140,7 +142,7 @@ fn issue_rows(c: &mut Criterion) {
         group.bench_function(
             BenchmarkId::new("laplacian_k5_8it/pc_01", format!("{backend:?}")),
             |b| {
-                b.iter(|| mesh_smooth_gpu::laplacian_filter(black_box(&cloud), &laplacian));
+                b.iter(|| cpu.laplacian(black_box(&cloud), &laplacian));
             },
         );
         let bilateral = BilateralOptions::new()
@@ -152,7 +154,7 @@ fn issue_rows(c: &mut Criterion) {
         group.bench_function(
             BenchmarkId::new("bilateral_k3_2it/pc_01", format!("{backend:?}")),
             |b| {
-                b.iter(|| mesh_smooth_gpu::bilateral_filter(black_box(&cloud), &bilateral));
+                b.iter(|| cpu.bilateral(black_box(&cloud), &bilateral));
             },
         );
     }

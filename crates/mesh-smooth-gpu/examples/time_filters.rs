@@ -5,7 +5,7 @@
 
 use std::time::Instant;
 
-use mesh_smooth_gpu::{Backend, BilateralOptions, LaplacianOptions};
+use mesh_smooth_gpu::{Backend, BilateralOptions, CpuSmoother, LaplacianOptions};
 use opc_mesh::OrganizedPointCloud;
 
 fn cloud() -> Result<OrganizedPointCloud, opc_mesh::OpcError> {
@@ -37,21 +37,18 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     };
     let calls: u32 = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(20);
     let cloud = cloud()?;
+    let mut smoother = CpuSmoother::new(backend)?;
     let start = Instant::now();
     for _ in 0..calls {
         if filter == "bilateral" {
-            let options = BilateralOptions::new()
-                .with_kernel(3)
-                .with_iterations(2)
-                .with_backend(backend);
-            std::hint::black_box(mesh_smooth_gpu::bilateral_filter(&cloud, &options)?);
+            let options = BilateralOptions::new().with_kernel(3).with_iterations(2);
+            std::hint::black_box(smoother.bilateral(&cloud, &options)?);
         } else {
             let options = LaplacianOptions::new()
                 .with_kernel(5)
                 .with_lambda(1.0)
-                .with_iterations(8)
-                .with_backend(backend);
-            std::hint::black_box(mesh_smooth_gpu::laplacian_filter(&cloud, &options)?);
+                .with_iterations(8);
+            std::hint::black_box(smoother.laplacian(&cloud, &options)?);
         }
     }
     let ms = start.elapsed().as_secs_f64() * 1e3 / f64::from(calls);

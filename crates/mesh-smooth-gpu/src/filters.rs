@@ -2,10 +2,11 @@
 
 use opc_mesh::OrganizedPointCloud;
 
-use crate::{Backend, BilateralOptions, LaplacianOptions, SlotNormals, SmoothError, cpu};
+use crate::{Backend, BilateralOptions, CpuSmoother, LaplacianOptions, SlotNormals, SmoothError};
 
 /// Laplacian vertex filter (Polylidar3D Eq. 1–2) on an organized cloud; returns the
-/// smoothed cloud.
+/// smoothed cloud. To filter many clouds, keep a [`CpuSmoother`] (or
+/// [`GpuSmoother`](crate::GpuSmoother)) instead: it reuses its buffers.
 ///
 /// Computed in `f32` like the original implementation: filtered points carry `f32`
 /// precision. Points that are not filtered — invalid (NaN) ones, those within
@@ -23,8 +24,9 @@ pub fn laplacian_filter(
 ) -> Result<OrganizedPointCloud, SmoothError> {
     options.validate()?;
     match options.backend {
-        Backend::Cpu => Ok(cpu::laplacian(cloud, options, false)),
-        Backend::CpuParallel => Ok(cpu::laplacian(cloud, options, true)),
+        Backend::Cpu | Backend::CpuParallel => {
+            CpuSmoother::new(options.backend)?.laplacian(cloud, options)
+        }
         Backend::Gpu => gpu_laplacian(cloud, options),
     }
 }
@@ -45,8 +47,9 @@ pub fn bilateral_filter(
 ) -> Result<SlotNormals, SmoothError> {
     options.validate()?;
     match options.backend {
-        Backend::Cpu => Ok(cpu::bilateral(cloud, options, false)),
-        Backend::CpuParallel => Ok(cpu::bilateral(cloud, options, true)),
+        Backend::Cpu | Backend::CpuParallel => {
+            CpuSmoother::new(options.backend)?.bilateral(cloud, options)
+        }
         Backend::Gpu => gpu_bilateral(cloud, options),
     }
 }

@@ -60,7 +60,9 @@ pub fn slot_vertices(cols: usize, r: usize, c: usize, k: usize) -> [u32; 3] {
 
 /// Unit triangle normals of the implicit mesh, one per slot, as computed (`f32`) by the
 /// bilateral filter. A missing triangle (a vertex is NaN) has `[NaN; 3]`.
-#[derive(Debug, Clone, PartialEq)]
+/// `SlotNormals::default()` is empty (a 0 × 0 cloud), ready for
+/// [`CpuSmoother::bilateral_into`](crate::CpuSmoother::bilateral_into).
+#[derive(Debug, Clone, PartialEq, Default)]
 pub struct SlotNormals {
     rows: usize,
     cols: usize,
@@ -68,6 +70,7 @@ pub struct SlotNormals {
 }
 
 impl SlotNormals {
+    #[cfg(any(feature = "gpu", test))]
     pub(crate) fn new(rows: usize, cols: usize, normals: Vec<[f32; 3]>) -> Self {
         debug_assert_eq!(normals.len(), num_slots(rows, cols));
         Self {
@@ -75,6 +78,19 @@ impl SlotNormals {
             cols,
             normals,
         }
+    }
+
+    /// Sets the shape and lets `fill` rewrite the normals in place (keeping the allocation).
+    pub(crate) fn refill(
+        &mut self,
+        rows: usize,
+        cols: usize,
+        fill: impl FnOnce(&mut Vec<[f32; 3]>),
+    ) {
+        self.rows = rows;
+        self.cols = cols;
+        fill(&mut self.normals);
+        debug_assert_eq!(self.normals.len(), num_slots(rows, cols));
     }
 
     /// Rows of the cloud the normals belong to.

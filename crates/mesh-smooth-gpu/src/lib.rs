@@ -47,8 +47,11 @@
 //! 0.01 % of the triangles stay within 1e-4 and all within 1e-2. The exceptions are
 //! triangles whose normal is unlike all of their neighbours', so that every weight is near
 //! `f32` underflow and the result turns with the last bits of `exp` (2 of 498,002 on pc_01,
-//! worst 1.9e-3). [`GpuSmoother`] keeps the device, pipelines and
-//! buffers across calls; create it once.
+//! worst 1.9e-3).
+//!
+//! [`CpuSmoother`] and [`GpuSmoother`] keep their buffers (and the GPU its device and
+//! pipelines) across calls: create one and reuse it for a stream of clouds. The free
+//! functions create one per call.
 //!
 //! # General meshes
 //!
@@ -79,6 +82,7 @@ pub mod grid;
 pub mod mesh;
 mod options;
 
+pub use cpu::CpuSmoother;
 pub use error::SmoothError;
 pub use filters::{bilateral_filter, laplacian_filter};
 #[cfg(feature = "gpu")]

@@ -92,3 +92,34 @@ fn gpu_backend_without_the_feature_is_a_clear_error() {
         Err(SmoothError::GpuFeatureDisabled)
     );
 }
+
+#[test]
+fn a_reused_cpu_smoother_matches_fresh_calls() {
+    use mesh_smooth_gpu::{CpuSmoother, SlotNormals};
+    let mut smoother = CpuSmoother::new(Backend::CpuParallel).unwrap();
+    let mut normals = SlotNormals::default();
+    let laplacian = LaplacianOptions::new().with_kernel(5).with_iterations(3);
+    let bilateral = BilateralOptions::new().with_iterations(2);
+    for (seed, (rows, cols)) in [(30, 40), (12, 9), (30, 40), (50, 20)]
+        .into_iter()
+        .enumerate()
+    {
+        let cloud = wavy_cloud(rows, cols, seed as u64, 0.01, 0.1);
+        let fresh = mesh_smooth_gpu::laplacian_filter(&cloud, &laplacian).unwrap();
+        let mut reused = cloud.clone();
+        smoother
+            .laplacian_in_place(&mut reused, &laplacian)
+            .unwrap();
+        assert_eq!(bits(fresh.points()), bits(reused.points()));
+        let fresh = mesh_smooth_gpu::bilateral_filter(&cloud, &bilateral).unwrap();
+        smoother
+            .bilateral_into(&cloud, &bilateral, &mut normals)
+            .unwrap();
+        assert_eq!(
+            normal_bits(fresh.as_slice()),
+            normal_bits(normals.as_slice())
+        );
+        assert_eq!((normals.cloud_rows(), normals.cloud_cols()), (rows, cols));
+    }
+    assert!(CpuSmoother::new(Backend::Gpu).is_err());
+}

@@ -4,37 +4,62 @@
 use opc_mesh::OrganizedPointCloud;
 use rayon::prelude::*;
 
-use super::{Planes, exp_neg, min_rows_per_task};
-use crate::{BilateralOptions, SlotNormals, grid::TRIANGLES_PER_CELL};
+use super::{Planes, exp_neg, min_rows_per_task, resize_all};
+use crate::{BilateralOptions, grid::TRIANGLES_PER_CELL};
 
 /// xyz planes.
 type Xyz = [Vec<f32>; 3];
 
 /// Normals, centroids and masks of the triangles of one type `k` (see [`crate::grid`]),
 /// indexed by cell `r · (cols − 1) + c`. Missing triangles hold zeros and mask 0.0.
-#[derive(Clone)]
+#[derive(Default)]
 struct TypePlanes {
     normal: Xyz,
     centroid: Xyz,
     mask: Vec<f32>,
 }
 
-/// Computes normals and centroids, filters the normals and returns them per slot.
-/// Options are validated.
-pub(crate) fn bilateral(
+/// Reusable buffers of the bilateral filter.
+#[derive(Default)]
+pub(crate) struct BilateralWork {
+    planes: Planes,
+    types: [TypePlanes; 2],
+    current: [Xyz; 2],
+    next: [Xyz; 2],
+}
+
+/// Computes normals and centroids, filters the normals and writes them per slot into
+/// `out` (resized). Options are validated.
+pub(crate) fn bilateral_into(
+    work: &mut BilateralWork,
     cloud: &OrganizedPointCloud,
     options: &BilateralOptions,
     parallel: bool,
-) -> SlotNormals {
+    out: &mut Vec<[f32; 3]>,
+) {
     let (rows, cols) = (cloud.rows(), cloud.cols());
-    let planes = Planes::from_points(cloud.points(), cols, parallel);
-    let types = [0, 1].map(|k| TypePlanes::compute(&planes, rows, cols, k, parallel));
+    let BilateralWork {
+        planes,
+        types,
+        current,
+        next,
+    } = work;
+    planes.fill(cloud.points(), cols, parallel);
+    for (k, planes_k) in types.iter_mut().enumerate() {
+        planes_k.compute(planes, rows, cols, k, parallel);
+    }
     let cells = Cells {
         rows: rows - 1,
         cols: cols - 1,
         half: (options.kernel / 2) as usize,
     };
-    let mut current = [types[0].normal.clone(), types[1].normal.clone()];
+    let num_cells = cells.rows * cells.cols;
+    for (cur, t) in current.iter_mut().zip(types.iter()) {
+        for (c, n) in cur.iter_mut().zip(&t.normal) {
+            c.clear();
+            c.extend_from_slice(n);
+        }
+    }
     if cells.rows > 2 * cells.half && cells.cols > 2 * cells.half && options.iterations > 0 {
         let (inv_var_length, inv_var_angle) = options.inverse_variances();
         let filter = Filter {
@@ -42,10 +67,14 @@ pub(crate) fn bilateral(
             inv_var_length,
             inv_var_angle,
         };
-        let mut next = current.clone();
+        for planes_k in next.iter_mut() {
+            resize_all(planes_k, num_cells);
+        }
+        let types = &*types;
         for _ in 0..options.iterations {
-            let [[n0x, n0y, n0z], [n1x, n1y, n1z]] = &mut next;
+            let [[n0x, n0y, n0z], [n1x, n1y, n1z]] = &mut *next;
             let cc = cells.cols;
+            let previous = &*current;
             (
                 n0x.par_chunks_mut(cc),
                 n0y.par_chunks_mut(cc),
@@ -58,43 +87,40 @@ pub(crate) fn bilateral(
                 .enumerate()
                 .with_min_len(min_rows_per_task(parallel))
                 .for_each(|(r, (a, b, c, d, e, f))| {
-                    filter.row(r, &current, &types, [[a, b, c], [d, e, f]]);
+                    filter.row(r, previous, types, [[a, b, c], [d, e, f]]);
                 });
-            std::mem::swap(&mut current, &mut next);
+            std::mem::swap(current, next);
         }
     }
-    let num_cells = cells.rows * cells.cols;
-    let mut normals = vec![[f32::NAN; 3]; TRIANGLES_PER_CELL * num_cells];
-    normals
-        .par_chunks_mut(TRIANGLES_PER_CELL * cells.cols)
+    out.resize(TRIANGLES_PER_CELL * num_cells, [0.0; 3]);
+    let (types, current) = (&*types, &*current);
+    out.par_chunks_mut(TRIANGLES_PER_CELL * cells.cols)
         .enumerate()
         .with_min_len(min_rows_per_task(parallel))
         .for_each(|(r, out)| {
             for (j, pair) in out.chunks_exact_mut(TRIANGLES_PER_CELL).enumerate() {
                 let cell = r * cells.cols + j;
                 for (k, slot) in pair.iter_mut().enumerate() {
-                    if types[k].mask[cell] > 0.0 {
+                    *slot = if types[k].mask[cell] > 0.0 {
                         let [x, y, z] = &current[k];
-                        *slot = [x[cell], y[cell], z[cell]];
-                    }
+                        [x[cell], y[cell], z[cell]]
+                    } else {
+                        [f32::NAN; 3]
+                    };
                 }
             }
         });
-    SlotNormals::new(rows, cols, normals)
 }
 
 impl TypePlanes {
     /// Normals and centroids of the type-`k` triangles of every cell.
-    fn compute(planes: &Planes, rows: usize, cols: usize, k: usize, parallel: bool) -> Self {
+    fn compute(&mut self, planes: &Planes, rows: usize, cols: usize, k: usize, parallel: bool) {
         let (cr, cc) = (rows - 1, cols - 1);
-        let zeros = vec![0.0f32; cr * cc];
-        let mut out = Self {
-            normal: [zeros.clone(), zeros.clone(), zeros.clone()],
-            centroid: [zeros.clone(), zeros.clone(), zeros.clone()],
-            mask: zeros,
-        };
-        let [nx, ny, nz] = &mut out.normal;
-        let [cx, cy, cz] = &mut out.centroid;
+        resize_all(&mut self.normal, cr * cc);
+        resize_all(&mut self.centroid, cr * cc);
+        self.mask.resize(cr * cc, 0.0);
+        let [nx, ny, nz] = &mut self.normal;
+        let [cx, cy, cz] = &mut self.centroid;
         (
             nx.par_chunks_mut(cc),
             ny.par_chunks_mut(cc),
@@ -102,7 +128,7 @@ impl TypePlanes {
             cx.par_chunks_mut(cc),
             cy.par_chunks_mut(cc),
             cz.par_chunks_mut(cc),
-            out.mask.par_chunks_mut(cc),
+            self.mask.par_chunks_mut(cc),
         )
             .into_par_iter()
             .enumerate()
@@ -166,7 +192,6 @@ impl TypePlanes {
                     m[i] = if valid { 1.0 } else { 0.0 };
                 }
             });
-        out
     }
 }
 

@@ -3,25 +3,40 @@
 use opc_mesh::OrganizedPointCloud;
 use rayon::prelude::*;
 
-use super::{Planes, min_rows_per_task};
+use super::{Planes, min_rows_per_task, resize_all};
 use crate::LaplacianOptions;
 
-/// Filters `cloud` on the CPU (`parallel`: over the rayon pool). Options are validated.
-pub(crate) fn laplacian(
-    cloud: &OrganizedPointCloud,
+/// Reusable buffers of the Laplacian filter.
+#[derive(Default)]
+pub(crate) struct LaplacianWork {
+    planes: Planes,
+    next: [Vec<f32>; 3],
+    /// Σ w of the last pass; > 0 exactly where a pixel was filtered.
+    weight_sums: Vec<f32>,
+}
+
+/// Filters `cloud` in place on the CPU (`parallel`: over the rayon pool). Options are
+/// validated.
+pub(crate) fn laplacian_in_place(
+    work: &mut LaplacianWork,
+    cloud: &mut OrganizedPointCloud,
     options: &LaplacianOptions,
     parallel: bool,
-) -> OrganizedPointCloud {
+) {
     let (rows, cols) = (cloud.rows(), cloud.cols());
     let half = (options.kernel / 2) as usize;
     if options.iterations == 0 || rows <= 2 * half || cols <= 2 * half {
-        return cloud.clone();
+        return;
     }
-    let Planes { x, y, z, m } = Planes::from_points(cloud.points(), cols, parallel);
-    let mut current = [x, y, z];
-    let mut next = current.clone();
-    // Σ w of the last pass; > 0 exactly where a pixel was filtered.
-    let mut weight_sums = vec![0.0f32; m.len()];
+    let LaplacianWork {
+        planes,
+        next,
+        weight_sums,
+    } = work;
+    planes.fill(cloud.points(), cols, parallel);
+    let n = planes.m.len();
+    resize_all(next, n);
+    weight_sums.resize(n, 0.0);
     let grid = Grid {
         rows,
         cols,
@@ -29,13 +44,17 @@ pub(crate) fn laplacian(
         lambda: options.lambda,
         epsilon: options.epsilon,
     };
+    let Planes { x, y, z, m } = planes;
+    let mut current = [x, y, z];
+    let [nx, ny, nz] = next;
+    let mut next = [nx, ny, nz];
     for _ in 0..options.iterations {
         let [cx, cy, cz] = &current;
         let source = Source {
             x: cx,
             y: cy,
             z: cz,
-            m: &m,
+            m,
         };
         let [nx, ny, nz] = &mut next;
         (
@@ -51,13 +70,11 @@ pub(crate) fn laplacian(
         std::mem::swap(&mut current, &mut next);
     }
     let [x, y, z] = &current;
-    let mut out = cloud.clone();
-    for (i, p) in out.points_mut().iter_mut().enumerate() {
+    for (i, p) in cloud.points_mut().iter_mut().enumerate() {
         if weight_sums[i] > 0.0 {
             *p = [f64::from(x[i]), f64::from(y[i]), f64::from(z[i])];
         }
     }
-    out
 }
 
 /// The previous pass's planes.

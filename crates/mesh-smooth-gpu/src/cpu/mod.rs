@@ -10,9 +10,11 @@ mod bilateral;
 mod fast_exp;
 mod laplacian;
 
-pub(crate) use bilateral::bilateral;
+pub use smoother::CpuSmoother;
+
 pub(crate) use fast_exp::exp_neg;
-pub(crate) use laplacian::laplacian;
+
+mod smoother;
 
 use rayon::prelude::*;
 
@@ -21,7 +23,8 @@ pub(crate) fn min_rows_per_task(parallel: bool) -> usize {
     if parallel { 2 } else { usize::MAX }
 }
 
-/// An organized cloud as `f32` planes with a validity mask.
+/// An organized cloud as `f32` planes with a validity mask, reused across calls.
+#[derive(Default)]
 pub(crate) struct Planes {
     pub x: Vec<f32>,
     pub y: Vec<f32>,
@@ -31,34 +34,37 @@ pub(crate) struct Planes {
 }
 
 impl Planes {
-    /// Splits `points` (rows of `cols`) into planes, rounding to `f32`.
-    pub fn from_points(points: &[[f64; 3]], cols: usize, parallel: bool) -> Self {
+    /// Fills the planes from `points` (rows of `cols`), rounding to `f32`; keeps the
+    /// allocations of earlier calls.
+    pub fn fill(&mut self, points: &[[f64; 3]], cols: usize, parallel: bool) {
         let n = points.len();
-        let mut planes = Self {
-            x: vec![0.0; n],
-            y: vec![0.0; n],
-            z: vec![0.0; n],
-            m: vec![0.0; n],
-        };
+        for plane in [&mut self.x, &mut self.y, &mut self.z, &mut self.m] {
+            plane.resize(n, 0.0);
+        }
         (
-            planes.x.par_chunks_mut(cols),
-            planes.y.par_chunks_mut(cols),
-            planes.z.par_chunks_mut(cols),
-            planes.m.par_chunks_mut(cols),
+            self.x.par_chunks_mut(cols),
+            self.y.par_chunks_mut(cols),
+            self.z.par_chunks_mut(cols),
+            self.m.par_chunks_mut(cols),
             points.par_chunks(cols),
         )
             .into_par_iter()
             .with_min_len(min_rows_per_task(parallel))
             .for_each(|(x, y, z, m, row)| {
                 for (i, p) in row.iter().enumerate() {
-                    if opc_mesh::is_valid(p) {
-                        x[i] = p[0] as f32;
-                        y[i] = p[1] as f32;
-                        z[i] = p[2] as f32;
-                        m[i] = 1.0;
-                    }
+                    let valid = opc_mesh::is_valid(p);
+                    x[i] = if valid { p[0] as f32 } else { 0.0 };
+                    y[i] = if valid { p[1] as f32 } else { 0.0 };
+                    z[i] = if valid { p[2] as f32 } else { 0.0 };
+                    m[i] = if valid { 1.0 } else { 0.0 };
                 }
             });
-        planes
+    }
+}
+
+/// Resizes every plane of `planes` to `n` (contents are overwritten by the caller).
+pub(crate) fn resize_all<const N: usize>(planes: &mut [Vec<f32>; N], n: usize) {
+    for plane in planes {
+        plane.resize(n, 0.0);
     }
 }
