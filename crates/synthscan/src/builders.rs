@@ -169,15 +169,15 @@ pub struct RandomPolyhedraConfig {
     pub room_size: [f64; 3],
     /// Whether the room has a ceiling (default `true`).
     pub ceiling: bool,
-    /// Number of objects (default 10).
+    /// Number of objects (default 22).
     pub objects: usize,
-    /// Range of object dimensions `[min, max]` (default `[0.25, 1.0]`).
+    /// Range of object dimensions `[min, max]` (default `[0.2, 0.75]`).
     pub size_range: [f64; 2],
     /// Fraction of objects tilted off the vertical, in `[0, 1]` (default 0.3).
     pub tilted_fraction: f64,
     /// Largest tilt in degrees, in `[0, 90]` (default 35).
     pub max_tilt_deg: f64,
-    /// Smallest horizontal clearance between objects, and to the walls (default 0.15).
+    /// Smallest horizontal clearance between objects, and to the walls (default 0.1).
     pub gap: f64,
     /// Discs `([x, y], radius)` kept free of objects, e.g. around a sensor (default: the
     /// spot under the sensor of [`crate::synpeb_like`], `([0.5, 2.5], 1.0)`).
@@ -190,11 +190,11 @@ impl Default for RandomPolyhedraConfig {
             seed: 0,
             room_size: [6.0, 5.0, 3.0],
             ceiling: true,
-            objects: 10,
-            size_range: [0.25, 1.0],
+            objects: 22,
+            size_range: [0.2, 0.75],
             tilted_fraction: 0.3,
             max_tilt_deg: 35.0,
-            gap: 0.15,
+            gap: 0.1,
             keep_clear: vec![([0.5, 2.5], 1.0)],
         }
     }

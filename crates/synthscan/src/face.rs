@@ -49,6 +49,8 @@ pub struct Face {
     u: V3,
     v: V3,
     rings: Vec<Vec<V2>>,
+    /// 2D bounding box `[xmin, xmax, ymin, ymax]` of each ring.
+    ring_boxes: Vec<[f64; 4]>,
     area: f64,
     bbox_min: V3,
     bbox_max: V3,
@@ -149,6 +151,27 @@ impl Face {
             }
         }
         let area = rings.iter().map(|r| ring_area(r)).sum();
+        let ring_boxes = rings
+            .iter()
+            .map(|r| {
+                r.iter().fold(
+                    [
+                        f64::INFINITY,
+                        f64::NEG_INFINITY,
+                        f64::INFINITY,
+                        f64::NEG_INFINITY,
+                    ],
+                    |b, p| {
+                        [
+                            b[0].min(p[0]),
+                            b[1].max(p[0]),
+                            b[2].min(p[1]),
+                            b[3].max(p[1]),
+                        ]
+                    },
+                )
+            })
+            .collect();
         let mut clean3 = clean3.into_iter();
         let outer = clean3.next().unwrap_or_default();
         let polygon = Polygon3d {
@@ -164,6 +187,7 @@ impl Face {
             u,
             v,
             rings,
+            ring_boxes,
             area,
             bbox_min,
             bbox_max,
@@ -222,11 +246,19 @@ impl Face {
         (0..3).all(|k| p[k] >= self.bbox_min[k] - eps && p[k] <= self.bbox_max[k] + eps)
     }
 
-    /// Even-odd test of a point given in the face frame.
+    /// Whether a point given in the face frame is inside the outer ring and outside every
+    /// hole (holes are disjoint and inside the outer ring, so this is the even-odd rule);
+    /// ring bounding boxes skip most ring tests.
     pub(crate) fn contains_2d(&self, q: V2) -> bool {
-        self.rings
-            .iter()
-            .fold(false, |inside, r| inside ^ point_in_ring(r, q))
+        let in_box = |b: &[f64; 4]| q[0] >= b[0] && q[0] <= b[1] && q[1] >= b[2] && q[1] <= b[3];
+        in_box(&self.ring_boxes[0])
+            && point_in_ring(&self.rings[0], q)
+            && !self
+                .rings
+                .iter()
+                .zip(&self.ring_boxes)
+                .skip(1)
+                .any(|(r, b)| in_box(b) && point_in_ring(r, q))
     }
 }
 

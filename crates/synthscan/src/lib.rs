@@ -50,6 +50,7 @@
 #![deny(rustdoc::broken_intra_doc_links)]
 
 mod builders;
+mod bvh;
 mod error;
 mod face;
 mod mesh;

@@ -4,11 +4,11 @@ use rand::rngs::Xoshiro256PlusPlus;
 use rand::{RngExt, SeedableRng};
 use rayon::prelude::*;
 
+use crate::bvh::Bvh;
 use crate::error::{SceneError, non_negative};
-use crate::face::Face;
 use crate::scene::{GroundTruthPlane, Scene};
 use crate::sensor::Sensor;
-use crate::vec3::{V3, add, axpy, dot, normalize, perpendicular_basis, scale};
+use crate::vec3::{add, axpy, normalize, perpendicular_basis, scale};
 
 /// Sensor noise, deterministic by seed.
 ///
@@ -106,31 +106,6 @@ impl ScanResult {
     }
 }
 
-/// Nearest hit along a ray: `(range, face index)`.
-#[inline]
-fn cast(faces: &[Face], origin: V3, dir: V3) -> Option<(f64, usize)> {
-    let mut best: Option<(f64, usize)> = None;
-    for (i, f) in faces.iter().enumerate() {
-        let n = f.normal();
-        let denom = dot(n, dir);
-        if denom.abs() < 1e-12 {
-            continue;
-        }
-        let t = (f.offset() - dot(n, origin)) / denom;
-        if t.is_nan() || t <= 1e-9 || best.is_some_and(|(bt, _)| t >= bt) {
-            continue;
-        }
-        let p = axpy(origin, t, dir);
-        if !f.bbox_contains(p, 1e-9 * (1.0 + t)) {
-            continue;
-        }
-        if f.contains_2d(f.frame().to_2d(p)) {
-            best = Some((t, i));
-        }
-    }
-    best
-}
-
 /// A standard normal pair by the Box–Muller transform.
 #[inline]
 fn normal_pair(rng: &mut Xoshiro256PlusPlus) -> (f64, f64) {
@@ -152,9 +127,9 @@ impl Scene {
     /// Negative or non-finite noise sigmas.
     ///
     /// # Performance
-    /// Every ray is tested against every face, with a bounding-box test before the
-    /// point-in-polygon test: a 500 × 500 scan of a room with a dozen polyhedra
-    /// (≈ 70 faces) takes well under a second in a release build.
+    /// Rays traverse a bounding-volume hierarchy over the faces' boxes, nearest box first;
+    /// a 500 × 500 scan of [`crate::synpeb_like`] (≈ 140 faces) takes tens of milliseconds
+    /// in a release build.
     pub fn scan(&self, sensor: &impl Sensor, noise: &Noise) -> Result<ScanResult, SceneError> {
         non_negative("radial_sigma", noise.radial_sigma)?;
         non_negative("tangential_sigma_mdeg", noise.tangential_sigma_mdeg)?;
@@ -164,6 +139,7 @@ impl Scene {
         let pose = sensor.pose();
         let origin = pose.translation();
         let faces = self.faces();
+        let bvh = Bvh::new(faces);
         let tangential_rad = (noise.tangential_sigma_mdeg * 1e-3).to_radians();
         let noisy = !noise.is_zero();
         points
@@ -189,7 +165,7 @@ impl Scene {
                                 normalize(add(dir, add(scale(e1, a), scale(e2, b)))).unwrap_or(dir);
                         }
                     }
-                    if let Some((t, fi)) = cast(faces, origin, beam) {
+                    if let Some((t, fi)) = bvh.cast(faces, origin, beam) {
                         pts[col] = axpy(origin, t + dr, dir);
                         lbs[col] = faces[fi].label();
                     }
