@@ -70,7 +70,7 @@ pub use face::{Face, Polygon3d};
 pub use mesh::{LabelledMesh, MAX_MESH_TRIANGLES, PointSample};
 pub use scan::{Noise, ScanResult};
 pub use scene::{GroundTruthPlane, Scene};
-pub use sensor::{PinholeCamera, Pose, Sensor, SphericalSensor};
+pub use sensor::{MAX_PIXELS, PinholeCamera, Pose, Sensor, SphericalSensor};
 pub use solid::Solid;
 
 /// A SynPEB-like benchmark frame: [`Scene::random_polyhedra`] with

@@ -151,20 +151,26 @@ impl Scene {
                     noise.seed ^ (row as u64 + 1).wrapping_mul(0x9E37_79B9_7F4A_7C15),
                 );
                 for col in 0..cols {
-                    let dir = pose.rotate(sensor.direction(row, col));
-                    let (mut beam, mut dr) = (dir, 0.0);
-                    if noisy {
+                    // Draw the pixel's noise first, so every pixel uses the same amount of
+                    // its row's stream.
+                    let (z0, z1, z2) = if noisy {
                         let (z0, z1) = normal_pair(&mut rng);
-                        let (z2, _) = normal_pair(&mut rng);
-                        dr = noise.radial_sigma * z0;
-                        if tangential_rad > 0.0 {
-                            let (e1, e2) = perpendicular_basis(dir);
-                            let a = (tangential_rad * z1).tan();
-                            let b = (tangential_rad * z2).tan();
-                            beam =
-                                normalize(add(dir, add(scale(e1, a), scale(e2, b)))).unwrap_or(dir);
-                        }
-                    }
+                        (z0, z1, normal_pair(&mut rng).0)
+                    } else {
+                        (0.0, 0.0, 0.0)
+                    };
+                    let Some(dir) = normalize(pose.rotate(sensor.direction(row, col))) else {
+                        continue;
+                    };
+                    let dr = noise.radial_sigma * z0;
+                    let beam = if tangential_rad > 0.0 {
+                        let (e1, e2) = perpendicular_basis(dir);
+                        let a = (tangential_rad * z1).tan();
+                        let b = (tangential_rad * z2).tan();
+                        normalize(add(dir, add(scale(e1, a), scale(e2, b)))).unwrap_or(dir)
+                    } else {
+                        dir
+                    };
                     if let Some((t, fi)) = bvh.cast(faces, origin, beam) {
                         pts[col] = axpy(origin, t + dr, dir);
                         lbs[col] = faces[fi].label();

@@ -104,19 +104,31 @@ pub trait Sensor: Sync {
     fn cols(&self) -> usize;
     /// Sensor-to-world pose; rays start at its translation.
     fn pose(&self) -> &Pose;
-    /// Unit direction of the ray through pixel `(row, col)` in the sensor frame.
+    /// Direction of the ray through pixel `(row, col)` in the sensor frame; it should be a
+    /// unit vector ([`Scene::scan`](crate::Scene::scan) normalises it, and leaves pixels
+    /// with a zero or non-finite direction empty).
     fn direction(&self, row: usize, col: usize) -> [f64; 3];
 }
 
+/// Largest `rows × cols` a built-in sensor accepts (64 Mi pixels, 1.5 GiB of points).
+pub const MAX_PIXELS: usize = 1 << 26;
+
 fn check_size(rows: usize, cols: usize) -> Result<(), SceneError> {
     for (name, v) in [("rows", rows), ("cols", cols)] {
-        if v == 0 || v > 1 << 15 {
+        if v == 0 {
             return Err(SceneError::InvalidParameter {
                 name,
-                value: v as f64,
-                reason: "must be between 1 and 32768",
+                value: 0.0,
+                reason: "must be >= 1",
             });
         }
+    }
+    if rows.saturating_mul(cols) > MAX_PIXELS {
+        return Err(SceneError::InvalidParameter {
+            name: "rows × cols",
+            value: rows as f64 * cols as f64,
+            reason: "must be at most MAX_PIXELS (2^26)",
+        });
     }
     Ok(())
 }
@@ -142,7 +154,7 @@ impl PinholeCamera {
     /// (`ppx = (cols − 1) / 2`, `ppy = (rows − 1) / 2`) and the identity pose.
     ///
     /// # Errors
-    /// Zero or over-large image size, or focal lengths that are not finite and `> 0`.
+    /// An empty image or more than [`MAX_PIXELS`] pixels, or focal lengths that are not finite and `> 0`.
     pub fn new(rows: usize, cols: usize, fx: f64, fy: f64) -> Result<Self, SceneError> {
         check_size(rows, cols)?;
         Ok(Self {
@@ -222,7 +234,7 @@ impl SphericalSensor {
     /// `(0, 360]`, elevation in `(0, 180)`), and the identity pose.
     ///
     /// # Errors
-    /// Zero or over-large image size, or a field of view out of range.
+    /// An empty image or more than [`MAX_PIXELS`] pixels, or a field of view out of range.
     pub fn new(
         rows: usize,
         cols: usize,
