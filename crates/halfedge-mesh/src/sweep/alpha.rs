@@ -48,9 +48,10 @@ const TINY_EDGE: f64 = 1e-12;
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash)]
 pub struct AlphaComplexOptions {
     /// Number of vertical strips triangulated in parallel; `0` (the default) chooses from
-    /// the point count and the extent of the points (one strip per 16,384 points, at most
-    /// 32, each core at least 8 α wide). The strips, never the thread count, fix the
-    /// output order; the set of triangles is the same for any number of strips.
+    /// the point count and the extent of the points: the largest power of two not above
+    /// one strip per 8,192 points, 32 strips, or cores 8 α wide. The strips, never the
+    /// thread count, fix the output order; the set of triangles is the same for any number
+    /// of strips.
     pub strips: usize,
 }
 
@@ -201,9 +202,9 @@ impl Strips {
             } else {
                 1
             };
-            (points.len() / POINTS_PER_STRIP)
-                .clamp(1, MAX_STRIPS)
-                .min(by_width)
+            let by_count = (points.len() / POINTS_PER_STRIP).clamp(1, MAX_STRIPS);
+            // A power of two, so that the strips share out evenly over common thread counts.
+            1 << by_count.min(by_width).ilog2()
         };
         if k <= 1 || margin.is_nan() || margin <= 0.0 || margin == f64::INFINITY {
             return Self::single();
