@@ -8,7 +8,9 @@
 use std::time::Duration;
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use polylidar::shapes::{l2_error, multipolygon_from_geojson, paper_alpha, sample_uniform, to_multipolygon};
+use polylidar::shapes::{
+    l2_error, multipolygon_from_geojson, paper_alpha, sample_uniform, to_multipolygon,
+};
 use polylidar::{Config, HalfEdgeMesh, Polylidar};
 
 const N: usize = 64_000;
@@ -22,15 +24,40 @@ fn bench(c: &mut Criterion) {
     let Some(path) = test_fixtures::fixture("shapes/caholes.geojson") else {
         return;
     };
-    let truth = multipolygon_from_geojson(&std::fs::read_to_string(path).expect("readable fixture")).expect("valid shape");
+    let truth =
+        multipolygon_from_geojson(&std::fs::read_to_string(path).expect("readable fixture"))
+            .expect("valid shape");
     let points = sample_uniform(&truth, N, 42).expect("shape has area");
     let alpha = paper_alpha(&truth, N);
 
     for threads in [1, 2] {
-        let polylidar = Polylidar::new(Config::new().with_alpha(alpha).with_min_triangles(1).with_threads(threads)).expect("valid config");
-        let runs: Vec<_> = (0..31).map(|_| polylidar.extract_2d(&points).expect("extraction")).collect();
-        let stage = |name: &str| median(runs.iter().map(|r| r.diagnostics.timings.get(name).map_or(0.0, |d| d.as_secs_f64() * 1e3)).collect());
-        let total = median(runs.iter().map(|r| r.diagnostics.timings.total().as_secs_f64() * 1e3).collect());
+        let polylidar = Polylidar::new(
+            Config::new()
+                .with_alpha(alpha)
+                .with_min_triangles(1)
+                .with_threads(threads),
+        )
+        .expect("valid config");
+        let runs: Vec<_> = (0..31)
+            .map(|_| polylidar.extract_2d(&points).expect("extraction"))
+            .collect();
+        let stage = |name: &str| {
+            median(
+                runs.iter()
+                    .map(|r| {
+                        r.diagnostics
+                            .timings
+                            .get(name)
+                            .map_or(0.0, |d| d.as_secs_f64() * 1e3)
+                    })
+                    .collect(),
+            )
+        };
+        let total = median(
+            runs.iter()
+                .map(|r| r.diagnostics.timings.total().as_secs_f64() * 1e3)
+                .collect(),
+        );
         let error = l2_error(&truth, &to_multipolygon(&runs[0].polygons));
         eprintln!(
             "caholes 64k, {threads} thread(s): mesh {:.2} ms, regions {:.2} ms, polygons {:.2} ms, total {total:.2} ms (medians of 31), L2 {:.2} %",
@@ -42,12 +69,24 @@ fn bench(c: &mut Criterion) {
     }
 
     let mut group = c.benchmark_group("extract_2d_caholes_64k");
-    group.sample_size(30).measurement_time(Duration::from_secs(8));
+    group
+        .sample_size(30)
+        .measurement_time(Duration::from_secs(8));
     for threads in [1, 2] {
-        let polylidar = Polylidar::new(Config::new().with_alpha(alpha).with_min_triangles(1).with_threads(threads)).expect("valid config");
-        group.bench_function(format!("pipeline_{threads}_threads"), |b| b.iter(|| polylidar.extract_2d(&points).expect("extraction")));
+        let polylidar = Polylidar::new(
+            Config::new()
+                .with_alpha(alpha)
+                .with_min_triangles(1)
+                .with_threads(threads),
+        )
+        .expect("valid config");
+        group.bench_function(format!("pipeline_{threads}_threads"), |b| {
+            b.iter(|| polylidar.extract_2d(&points).expect("extraction"))
+        });
     }
-    group.bench_function("triangulation", |b| b.iter(|| HalfEdgeMesh::delaunay_2d(&points).expect("triangulation")));
+    group.bench_function("triangulation", |b| {
+        b.iter(|| HalfEdgeMesh::delaunay_2d(&points).expect("triangulation"))
+    });
     group.finish();
 }
 

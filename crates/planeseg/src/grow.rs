@@ -227,20 +227,7 @@ impl Grower<'_> {
         triangles: Vec<u32>,
     ) -> Result<PlanarSegment, (u32, u32, SegmentError)> {
         let v = self.mesh.vertices();
-        let (mut sum_n, mut sum_c, mut area) = ([0.0; 3], [0.0; 3], 0.0);
-        for &t in &triangles {
-            let [a, b, c] = self.mesh.triangles()[t as usize].map(|i| v[i as usize]);
-            let n = cross_normal(a, b, c);
-            let w = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
-            for k in 0..3 {
-                sum_n[k] += n[k];
-                sum_c[k] += w * (a[k] + b[k] + c[k]) / 3.0;
-            }
-            area += w;
-        }
-        let len = (sum_n[0] * sum_n[0] + sum_n[1] * sum_n[1] + sum_n[2] * sum_n[2]).sqrt();
-        let normal = sum_n.map(|c| c / len);
-        let centroid = sum_c.map(|c| c / area);
+        let (normal, centroid) = geometric_plane(self.mesh, &triangles);
         let (e1, e2) = plane_axes(normal);
         let labels = self.labels;
         let mut polygon = Extractor::new()
@@ -268,6 +255,41 @@ impl Grower<'_> {
             polygon,
         })
     }
+}
+
+/// The geometric plane of a set of triangles: the area-weighted mean of their unit normals
+/// (unit; it faces the side the triangles are counter-clockwise from) and their
+/// area-weighted centroid.
+///
+/// ```
+/// use halfedge_mesh::HalfEdgeMesh;
+/// let mesh = HalfEdgeMesh::from_triangles(
+///     vec![[0.0, 0.0, 1.0], [2.0, 0.0, 1.0], [0.0, 2.0, 1.0]],
+///     vec![[0, 1, 2]],
+/// )?;
+/// let (normal, centroid) = planeseg::geometric_plane(&mesh, &[0]);
+/// assert_eq!(normal, [0.0, 0.0, 1.0]);
+/// assert!((centroid[0] - 2.0 / 3.0).abs() < 1e-12);
+/// # Ok::<(), halfedge_mesh::MeshError>(())
+/// ```
+pub fn geometric_plane(mesh: &HalfEdgeMesh, triangles: &[u32]) -> ([f64; 3], [f64; 3]) {
+    let v = mesh.vertices();
+    let (mut sum_n, mut sum_c, mut area) = ([0.0; 3], [0.0; 3], 0.0);
+    for &t in triangles {
+        let [a, b, c] = mesh.triangles()[t as usize].map(|i| v[i as usize]);
+        let n = cross_normal(a, b, c);
+        let w = dot(n, n).sqrt();
+        for k in 0..3 {
+            sum_n[k] += n[k];
+            sum_c[k] += w * (a[k] + b[k] + c[k]) / 3.0;
+        }
+        area += w;
+    }
+    let len = dot(sum_n, sum_n).sqrt();
+    if !(len > 0.0 && area > 0.0) {
+        return ([0.0; 3], [0.0; 3]);
+    }
+    (sum_n.map(|c| c / len), sum_c.map(|c| c / area))
 }
 
 #[inline]

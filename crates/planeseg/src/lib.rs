@@ -47,7 +47,7 @@ mod grow;
 
 pub use config::SegmentationConfig;
 pub use groups::{GroupCounts, NO_GROUP, assign_groups};
-pub use grow::{PlanarSegment, Segmentation, SegmentationCounts, segment};
+pub use grow::{PlanarSegment, Segmentation, SegmentationCounts, geometric_plane, segment};
 
 use polyextract::ExtractError;
 

@@ -35,10 +35,137 @@ pub struct Config {
     /// 2.5D only: the direction the cloud is triangulated along and polygons are viewed
     /// from (unit or not; must be non-zero).
     pub up: [f64; 3],
+    /// 3D: maximum distance from a triangle's centroid to its segment's plane (the
+    /// paper's ptp_max); `0` disables the test. Length unit.
+    pub z_thresh: f64,
     /// Worker threads; `0` uses rayon's default (one per core). Results are identical
     /// whatever the count.
     pub threads: usize,
+    /// Organized clouds: Laplacian vertex smoothing before meshing; absent = off.
+    pub laplacian: Option<LaplacianConfig>,
+    /// Organized clouds: bilateral normal smoothing after meshing; absent = off.
+    pub bilateral: Option<BilateralConfig>,
+    /// 3D: dominant-normal detection (FastGA) on the triangle normals.
+    pub fastga: FastGaSection,
+    /// Polygon post-processing (simplify, buffer, area filters); absent = off.
+    pub postprocess: Option<PostprocessSection>,
 }
+
+/// Laplacian vertex filter parameters (Polylidar3D Eq. 1–2).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct LaplacianConfig {
+    /// Odd pixel neighbourhood side (3, 5, …).
+    pub kernel: u32,
+    /// Step towards the weighted neighbour mean (0 keeps, 1 moves to the mean).
+    pub lambda: f32,
+    /// Passes.
+    pub iterations: u32,
+    /// Where to run.
+    pub backend: SmoothingBackend,
+}
+
+impl Default for LaplacianConfig {
+    fn default() -> Self {
+        Self {
+            kernel: 3,
+            lambda: 1.0,
+            iterations: 2,
+            backend: SmoothingBackend::CpuParallel,
+        }
+    }
+}
+
+/// Bilateral normal filter parameters (Polylidar3D Eq. 3–5).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct BilateralConfig {
+    /// Odd cell neighbourhood side.
+    pub kernel: u32,
+    /// σ_l: spatial scale between triangle centroids. Length unit.
+    pub sigma_length: f32,
+    /// σ_a: scale of the Euclidean distance between unit normals.
+    pub sigma_angle: f32,
+    /// Passes.
+    pub iterations: u32,
+    /// Where to run.
+    pub backend: SmoothingBackend,
+}
+
+impl Default for BilateralConfig {
+    fn default() -> Self {
+        Self {
+            kernel: 3,
+            sigma_length: 0.1,
+            sigma_angle: 0.1,
+            iterations: 2,
+            backend: SmoothingBackend::CpuParallel,
+        }
+    }
+}
+
+/// Where the smoothing filters run.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SmoothingBackend {
+    /// One CPU thread.
+    Cpu,
+    /// All worker threads.
+    #[default]
+    CpuParallel,
+    /// The GPU through wgpu (needs the `gpu` feature of this crate).
+    Gpu,
+}
+
+/// FastGA parameters (Polylidar3D §6).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct FastGaSection {
+    /// Icosahedron refinement level (0–7).
+    pub level: u32,
+    /// Fraction of the triangle normals integrated, in (0, 1].
+    pub sample_fraction: f64,
+    /// At least this many normals are integrated (when the mesh has them).
+    pub min_samples: usize,
+    /// Smallest peak on the 0–255 image scale (the paper's v_min).
+    pub value_threshold: f64,
+    /// Peaks closer than this (Euclidean, unit normals) merge (the paper's d_peak).
+    pub cluster_distance: f64,
+    /// Clusters lighter than this normalised weight are dropped.
+    pub min_cluster_weight: f64,
+}
+
+impl Default for FastGaSection {
+    fn default() -> Self {
+        Self {
+            level: 4,
+            sample_fraction: 0.12,
+            min_samples: 10_000,
+            value_threshold: 15.0,
+            cluster_distance: 0.1,
+            min_cluster_weight: 0.15,
+        }
+    }
+}
+
+/// Polygon post-processing parameters (Polylidar3D §8), in the polygons' length unit.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct PostprocessSection {
+    /// α: simplification tolerance.
+    pub alpha: f64,
+    /// β_pos: outward buffer.
+    pub beta_pos: f64,
+    /// β_neg: inward buffer (positive erodes).
+    pub beta_neg: f64,
+    /// γ: polygons with a smaller area are dropped (unit²).
+    pub min_area: f64,
+    /// δ: holes with a smaller area are dropped (unit²).
+    pub min_hole_area: f64,
+}
+
+/// Names accepted by [`Config::preset`].
+pub const PRESETS: [&str; 6] = ["rgbd", "synpeb", "rooftop", "kitti", "mesh-basement", "mesh-mainfloor"];
 
 impl Default for Config {
     fn default() -> Self {
@@ -49,7 +176,12 @@ impl Default for Config {
             min_hole_vertices: 3,
             norm_thresh: 0.9,
             up: [0.0, 0.0, 1.0],
+            z_thresh: 0.0,
             threads: 0,
+            laplacian: None,
+            bilateral: None,
+            fastga: FastGaSection::default(),
+            postprocess: None,
         }
     }
 }
@@ -102,6 +234,116 @@ impl Config {
         self
     }
 
+    /// The parameters of a named preset from the papers (see [`PRESETS`]), or `None`.
+    ///
+    /// * `rgbd` (Table 7): Laplacian λ 1, k 3, 2 it; bilateral σl 0.1, σa 0.15, k 3, 2 it;
+    ///   FastGA level 3, v_min 50, d_peak 0.28, 12 %; min_triangles 500, norm 0.96,
+    ///   lmax 0.05, z 0.1, hole vertices 10; post α 0.02, β_neg 0.02, β_pos 0.005, γ 0.1,
+    ///   δ 0.1.
+    /// * `synpeb` (the authors' benchmark values): Laplacian k 5, λ 1, 8 it; bilateral
+    ///   k 3, σ 0.1 / 0.1, 2 it; FastGA level 5, v_min 3, d_peak 0.1, weight 0.01, 12 % of
+    ///   at least 10,000 normals; lmax 0.1, min_triangles 1000, z 0.07, norm 0.95, hole
+    ///   vertices 50; no post-processing.
+    /// * `rooftop` (Table 3): Laplacian λ 1, 2 it; bilateral σ 0.1 / 0.1, 2 it; normal =
+    ///   `up`; min_triangles 200, norm 0.94, lmax 0.9, hole vertices 8, z 0.2; post α 0.1,
+    ///   β_neg 0.1, β_pos 0, γ 16, δ 0.5.
+    /// * `kitti` (Table 4): min_triangles 3500, norm 0.97, lmax 1.25, hole vertices 6;
+    ///   post α 0.2, β_neg 0.3, β_pos 0.02, γ 30, δ 0.5.
+    /// * `mesh-basement` / `mesh-mainfloor` (Tables 14–15): FastGA level 4, v_min 15,
+    ///   d_peak 0.1, 12 %; min_triangles 80 / 1000, norm 0.95, lmax 0.1, z 0.08, hole
+    ///   vertices 6; post α 0.01 / 0.02, β_neg 0.025 / 0.05, β_pos 0 / 0.02, γ 0.07 / 0.25,
+    ///   δ 0.05 / 0.1.
+    pub fn preset(name: &str) -> Option<Self> {
+        let base = Self::default();
+        let post = |alpha, beta_neg, beta_pos, min_area, min_hole_area| {
+            Some(PostprocessSection {
+                alpha,
+                beta_pos,
+                beta_neg,
+                min_area,
+                min_hole_area,
+            })
+        };
+        let fastga = |level, value_threshold, cluster_distance| FastGaSection {
+            level,
+            value_threshold,
+            cluster_distance,
+            ..FastGaSection::default()
+        };
+        Some(match name {
+            "rgbd" => Self {
+                laplacian: Some(LaplacianConfig::default()),
+                bilateral: Some(BilateralConfig {
+                    sigma_angle: 0.15,
+                    ..BilateralConfig::default()
+                }),
+                fastga: fastga(3, 50.0, 0.28),
+                min_triangles: 500,
+                norm_thresh: 0.96,
+                lmax: 0.05,
+                z_thresh: 0.1,
+                min_hole_vertices: 10,
+                postprocess: post(0.02, 0.02, 0.005, 0.1, 0.1),
+                ..base
+            },
+            "synpeb" => Self {
+                laplacian: Some(LaplacianConfig {
+                    kernel: 5,
+                    iterations: 8,
+                    ..LaplacianConfig::default()
+                }),
+                bilateral: Some(BilateralConfig::default()),
+                fastga: FastGaSection {
+                    min_cluster_weight: 0.01,
+                    ..fastga(5, 3.0, 0.1)
+                },
+                lmax: 0.1,
+                min_triangles: 1000,
+                z_thresh: 0.07,
+                norm_thresh: 0.95,
+                min_hole_vertices: 50,
+                ..base
+            },
+            "rooftop" => Self {
+                laplacian: Some(LaplacianConfig::default()),
+                bilateral: Some(BilateralConfig::default()),
+                min_triangles: 200,
+                norm_thresh: 0.94,
+                lmax: 0.9,
+                min_hole_vertices: 8,
+                z_thresh: 0.2,
+                postprocess: post(0.1, 0.1, 0.0, 16.0, 0.5),
+                ..base
+            },
+            "kitti" => Self {
+                min_triangles: 3500,
+                norm_thresh: 0.97,
+                lmax: 1.25,
+                min_hole_vertices: 6,
+                postprocess: post(0.2, 0.3, 0.02, 30.0, 0.5),
+                ..base
+            },
+            "mesh-basement" | "mesh-mainfloor" => {
+                let basement = name == "mesh-basement";
+                Self {
+                    fastga: fastga(4, 15.0, 0.1),
+                    min_triangles: if basement { 80 } else { 1000 },
+                    norm_thresh: 0.95,
+                    lmax: 0.1,
+                    z_thresh: 0.08,
+                    min_hole_vertices: 6,
+                    postprocess: if basement {
+                        post(0.01, 0.025, 0.0, 0.07, 0.05)
+                    } else {
+                        post(0.02, 0.05, 0.02, 0.25, 0.1)
+                    },
+                    ..base
+                }
+            }
+            _ => return None,
+        })
+    }
+
     /// Checks every field's range.
     ///
     /// # Errors
@@ -130,6 +372,9 @@ impl Config {
                 self.norm_thresh.to_string(),
                 "must be a cosine in [-1, 1]",
             );
+        }
+        if !(self.z_thresh.is_finite() && self.z_thresh >= 0.0) {
+            return bad("z_thresh", self.z_thresh.to_string(), "must be a finite length ≥ 0");
         }
         let up_len2: f64 = self.up.iter().map(|c| c * c).sum();
         if !(up_len2.is_finite() && up_len2 > 0.0) {

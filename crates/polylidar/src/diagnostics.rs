@@ -32,12 +32,21 @@ pub struct Counts {
     pub holes: usize,
     /// Holes dropped for having fewer than `min_hole_vertices` vertices.
     pub holes_too_small: usize,
+    /// 3D: dominant plane normals used for segmentation.
+    pub dominant_normals: usize,
+    /// Polygons after post-processing (a polygon may split into several or vanish).
+    pub postprocessed_polygons: usize,
+    /// Polygons dropped by post-processing (area below γ, or not repairable).
+    pub postprocess_dropped: usize,
 }
 
 /// Wall-clock time per pipeline stage, in execution order.
 ///
-/// Stage names: `mesh` (triangulation or meshing, normals included), `regions` (triangle
-/// filtering and region growing), `polygons` (boundary following).
+/// Stage names: `mesh` (triangulation or meshing, normals included), `laplacian`,
+/// `bilateral` (smoothing), `fastga` (dominant normals: integration and peaks), `regions`
+/// (2D / 2.5D triangle filtering and region growing), `polygons` (2D / 2.5D boundary
+/// following), `planes_polygons` (3D group assignment, region growing and polygon
+/// extraction, overlapped), `postprocess`. Stages that did not run are absent.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub struct Timings {
     stages: Vec<(&'static str, Duration)>,

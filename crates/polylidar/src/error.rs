@@ -4,7 +4,7 @@ use halfedge_mesh::MeshError;
 use polyextract::ExtractError;
 
 /// Why the pipeline could not run.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum PolylidarError {
     /// A configuration value is out of range.
@@ -28,6 +28,21 @@ pub enum PolylidarError {
         /// The extraction error.
         source: ExtractError,
     },
+    /// The organized cloud could not be built or meshed.
+    #[error(transparent)]
+    Organized(#[from] opc_mesh::OpcError),
+    /// A smoothing filter failed (bad options, no GPU adapter, …).
+    #[error(transparent)]
+    Smooth(#[from] mesh_smooth_gpu::SmoothError),
+    /// Dominant-normal detection failed.
+    #[error(transparent)]
+    FastGa(#[from] fastga::FastGaError),
+    /// Planar segmentation failed.
+    #[error(transparent)]
+    Segment(#[from] planeseg::SegmentError),
+    /// Post-processing failed.
+    #[error(transparent)]
+    Postprocess(#[from] polypost::PostError),
     /// The rayon thread pool could not be created.
     #[error("could not start {threads} worker threads: {message}")]
     ThreadPool {

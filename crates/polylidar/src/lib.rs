@@ -31,14 +31,21 @@ mod diagnostics;
 mod error;
 mod filter;
 mod pipeline;
+mod pipeline3d;
 mod regions;
 pub mod shapes;
 
-pub use config::Config;
+pub use config::{
+    BilateralConfig, Config, FastGaSection, LaplacianConfig, PRESETS, PostprocessSection,
+    SmoothingBackend,
+};
 pub use diagnostics::{Counts, Diagnostics, Timings};
 pub use error::PolylidarError;
 pub use halfedge_mesh::{HalfEdgeMesh, MeshError};
-pub use pipeline::{ExtractedPolygon, Extraction, PlaneFrame, Polylidar};
+pub use opc_mesh::OrganizedPointCloud;
+pub use pipeline::{
+    ExtractedPolygon, Extraction, PlaneFrame, Polylidar, PolygonPlane, PostprocessedPolygon,
+};
 
 #[doc = include_str!("../README.md")]
 #[cfg(doctest)]

@@ -22,6 +22,50 @@ pub struct ExtractedPolygon {
     pub hole_points: Vec<Vec<[f64; 3]>>,
     /// The triangles of the region, indices into [`Extraction::mesh`].
     pub triangles: Vec<u32>,
+    /// The plane of the region's triangles.
+    pub plane: PolygonPlane,
+    /// 3D: the index of the dominant normal the segment was grown for.
+    pub group: Option<u32>,
+}
+
+/// The geometric plane of a polygon's triangles: `normal · x + offset = 0`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PolygonPlane {
+    /// Unit normal: the area-weighted mean triangle normal.
+    pub normal: [f64; 3],
+    /// Offset `d` of the plane equation.
+    pub offset: f64,
+    /// Area-weighted centroid of the triangles (a point on the plane).
+    pub centroid: [f64; 3],
+}
+
+impl PolygonPlane {
+    /// The plane of `triangles` of `mesh`.
+    pub(crate) fn of(mesh: &HalfEdgeMesh, triangles: &[u32]) -> Self {
+        let (normal, centroid) = planeseg::geometric_plane(mesh, triangles);
+        Self::new(normal, centroid)
+    }
+
+    pub(crate) fn new(normal: [f64; 3], centroid: [f64; 3]) -> Self {
+        let offset = -(normal[0] * centroid[0] + normal[1] * centroid[1] + normal[2] * centroid[2]);
+        Self {
+            normal,
+            offset,
+            centroid,
+        }
+    }
+}
+
+/// A post-processed polygon (simplified, buffered, filtered; always valid in its plane),
+/// lifted back onto the plane of the polygon it came from.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PostprocessedPolygon {
+    /// Index of the source polygon in [`Extraction::polygons`].
+    pub source: usize,
+    /// Shell coordinates (open ring, counter-clockwise about the plane normal).
+    pub shell: Vec<[f64; 3]>,
+    /// Hole coordinates (open rings, clockwise).
+    pub holes: Vec<Vec<[f64; 3]>>,
 }
 
 /// The result of a pipeline run.
@@ -29,8 +73,11 @@ pub struct ExtractedPolygon {
 pub struct Extraction {
     /// The triangulation the polygons were extracted from.
     pub mesh: HalfEdgeMesh,
-    /// The polygons, ordered by their region's first triangle.
+    /// The polygons, ordered by their region's first triangle (3D: by dominant normal,
+    /// then first triangle).
     pub polygons: Vec<ExtractedPolygon>,
+    /// The polygons after post-processing, when the config asks for it (else empty).
+    pub postprocessed: Vec<PostprocessedPolygon>,
     /// Per-stage counts and timings.
     pub diagnostics: Diagnostics,
 }
@@ -128,7 +175,7 @@ impl Polylidar {
         })
     }
 
-    fn install<T: Send>(&self, f: impl FnOnce() -> T + Send) -> T {
+    pub(crate) fn install<T: Send>(&self, f: impl FnOnce() -> T + Send) -> T {
         match &self.pool {
             Some(pool) => pool.install(f),
             None => f(),
@@ -198,7 +245,9 @@ impl Polylidar {
                                 hole_points: holes.iter().map(|h| coords(h)).collect(),
                                 shell: polygon.shell,
                                 holes,
+                                plane: PolygonPlane::of(&mesh, triangles),
                                 triangles: triangles.to_vec(),
+                                group: None,
                             },
                             before,
                         ))
@@ -213,11 +262,14 @@ impl Polylidar {
             polygons.push(polygon);
         }
         counts.polygons = polygons.len();
-        Ok(Extraction {
+        let mut extraction = Extraction {
             mesh,
             polygons,
+            postprocessed: Vec::new(),
             diagnostics: Diagnostics { counts, timings },
-        })
+        };
+        self.postprocess(&mut extraction)?;
+        Ok(extraction)
     }
 }
 

@@ -8,10 +8,10 @@ fn run_2d(points: &[[f64; 2]]) -> Result<polylidar::Extraction, PolylidarError> 
 
 #[test]
 fn degenerate_point_sets() {
-    assert_eq!(
+    assert!(matches!(
         run_2d(&[]).unwrap_err(),
         PolylidarError::Mesh(MeshError::TooFewPoints { found: 0 })
-    );
+    ));
     assert!(matches!(
         run_2d(&[[0.0, 0.0], [1.0, 0.0]]),
         Err(PolylidarError::Mesh(MeshError::TooFewPoints { .. }))

@@ -1,0 +1,230 @@
+//! The Polylidar3D pipeline: organized clouds and meshes → smoothing → dominant normals →
+//! planar segments and polygons → optional post-processing.
+
+use fastga::{FastGa, FastGaConfig};
+use halfedge_mesh::{HalfEdgeMesh, MeshOptions};
+use mesh_smooth_gpu::{Backend, BilateralOptions, LaplacianOptions};
+use opc_mesh::{OpcMeshOptions, OrganizedPointCloud};
+use planeseg::SegmentationConfig;
+use polypost::{Plane, Polygon3, PostProcessor, PostprocessConfig};
+
+use crate::config::SmoothingBackend;
+use crate::pipeline::PolygonPlane;
+use crate::{Counts, Diagnostics, ExtractedPolygon, Extraction, Polylidar, PolylidarError, PostprocessedPolygon, Timings};
+
+impl Polylidar {
+    /// Planes and polygons of an organized point cloud (a range image or RGBD frame):
+    /// optional Laplacian smoothing, right-cut meshing with triangle normals, optional
+    /// bilateral normal smoothing, FastGA dominant normals, planar segmentation with
+    /// overlapped polygon extraction, optional post-processing.
+    ///
+    /// # Errors
+    /// Any stage's error: smoothing options or GPU, meshing (no valid triangle),
+    /// FastGA options, segmentation, post-processing.
+    pub fn extract_organized(&self, cloud: &OrganizedPointCloud) -> Result<Extraction, PolylidarError> {
+        self.install(|| {
+            let config = self.config();
+            let mut timings = Timings::default();
+            let smoothed;
+            let cloud = match &config.laplacian {
+                Some(l) => {
+                    let options = LaplacianOptions::new()
+                        .with_kernel(l.kernel)
+                        .with_lambda(l.lambda)
+                        .with_iterations(l.iterations)
+                        .with_backend(backend(l.backend));
+                    smoothed = timings.time("laplacian", || mesh_smooth_gpu::laplacian_filter(cloud, &options))?;
+                    &smoothed
+                }
+                None => cloud,
+            };
+            let mut opc = timings.time("mesh", || cloud.mesh(&OpcMeshOptions::new().with_compute_normals(true)))?;
+            if let Some(b) = &config.bilateral {
+                let options = BilateralOptions::new()
+                    .with_kernel(b.kernel)
+                    .with_sigma_length(b.sigma_length)
+                    .with_sigma_angle(b.sigma_angle)
+                    .with_iterations(b.iterations)
+                    .with_backend(backend(b.backend));
+                timings.time("bilateral", || {
+                    mesh_smooth_gpu::bilateral_filter(cloud, &options)?.apply_to_opc_mesh(&mut opc)
+                })?;
+            }
+            let counts = Counts {
+                points: cloud.num_valid(),
+                ..Counts::default()
+            };
+            self.extract_planes(opc.mesh, None, counts, timings)
+        })
+    }
+
+    /// Planes and polygons of a user triangle mesh: half-edge linking (non-manifold edges:
+    /// keep the first pair), triangle normals, FastGA dominant normals, planar segmentation
+    /// with overlapped polygon extraction, optional post-processing.
+    ///
+    /// # Errors
+    /// As [`Self::extract_organized`], plus [`PolylidarError::Mesh`] for bad triangles
+    /// (out-of-range index, NaN vertex, degenerate triangle).
+    pub fn extract_mesh(&self, vertices: Vec<[f64; 3]>, triangles: Vec<[u32; 3]>) -> Result<Extraction, PolylidarError> {
+        self.install(|| {
+            let mut timings = Timings::default();
+            let points = vertices.len();
+            let (mesh, _) = timings.time("mesh", || {
+                HalfEdgeMesh::from_triangles_with_options(vertices, triangles, MeshOptions::new())
+            })?;
+            let counts = Counts {
+                points,
+                ..Counts::default()
+            };
+            self.extract_planes(mesh, None, counts, timings)
+        })
+    }
+
+    /// Planes and polygons of a mesh with triangle normals, for the given dominant plane
+    /// normals (unit), skipping FastGA; `None` detects them.
+    ///
+    /// # Errors
+    /// As [`Self::extract_organized`].
+    pub fn extract_planes_from_mesh(
+        &self,
+        mesh: HalfEdgeMesh,
+        dominant: Option<Vec<[f64; 3]>>,
+    ) -> Result<Extraction, PolylidarError> {
+        self.install(|| {
+            let counts = Counts {
+                points: mesh.num_vertices(),
+                ..Counts::default()
+            };
+            self.extract_planes(mesh, dominant, counts, Timings::default())
+        })
+    }
+
+    /// FastGA (unless `dominant` is given), segmentation and polygons, post-processing.
+    fn extract_planes(
+        &self,
+        mut mesh: HalfEdgeMesh,
+        dominant: Option<Vec<[f64; 3]>>,
+        mut counts: Counts,
+        mut timings: Timings,
+    ) -> Result<Extraction, PolylidarError> {
+        let config = self.config();
+        if mesh.triangle_normals().is_none() {
+            mesh.compute_triangle_normals();
+        }
+        counts.triangles = mesh.num_triangles();
+        let dominant = match dominant {
+            Some(d) => d,
+            None => timings.time("fastga", || detect_normals(config, &mesh))?,
+        };
+        counts.dominant_normals = dominant.len();
+        let segmentation = SegmentationConfig::new()
+            .with_lmax(config.lmax)
+            .with_norm_thresh(config.norm_thresh)
+            .with_z_thresh(config.z_thresh)
+            .with_min_triangles(config.min_triangles)
+            .with_min_hole_vertices(config.min_hole_vertices);
+        let found = timings.time("planes_polygons", || planeseg::segment(&mesh, &dominant, &segmentation))?;
+        let c = found.counts;
+        counts.dropped_lmax = c.groups.dropped_lmax;
+        counts.dropped_normal = c.groups.dropped_normal;
+        counts.triangles_kept = c.groups.grouped;
+        counts.regions = c.segments_grown;
+        counts.regions_too_small = c.segments_too_small;
+        counts.holes = c.holes;
+        counts.holes_too_small = c.holes_too_small;
+        let vertices = mesh.vertices();
+        let coords = |ring: &[u32]| -> Vec<[f64; 3]> { ring.iter().map(|&i| vertices[i as usize]).collect() };
+        let polygons: Vec<ExtractedPolygon> = found
+            .segments
+            .into_iter()
+            .map(|s| ExtractedPolygon {
+                shell_points: coords(&s.polygon.shell),
+                hole_points: s.polygon.holes.iter().map(|h| coords(h)).collect(),
+                shell: s.polygon.shell,
+                holes: s.polygon.holes,
+                plane: PolygonPlane::new(s.normal, s.centroid),
+                group: Some(s.group),
+                triangles: s.triangles,
+            })
+            .collect();
+        counts.polygons = polygons.len();
+        let mut extraction = Extraction {
+            mesh,
+            polygons,
+            postprocessed: Vec::new(),
+            diagnostics: Diagnostics { counts, timings },
+        };
+        self.postprocess(&mut extraction)?;
+        Ok(extraction)
+    }
+
+    /// Applies the configured post-processing to `extraction.polygons`, if any.
+    pub(crate) fn postprocess(&self, extraction: &mut Extraction) -> Result<(), PolylidarError> {
+        let Some(p) = self.config().postprocess else {
+            return Ok(());
+        };
+        let processor = PostProcessor::new(
+            PostprocessConfig::default()
+                .with_alpha(p.alpha)
+                .with_beta_pos(p.beta_pos)
+                .with_beta_neg(p.beta_neg)
+                .with_min_area(p.min_area)
+                .with_min_hole_area(p.min_hole_area),
+        )?;
+        let polygons = &extraction.polygons;
+        let output = extraction.diagnostics.timings.time("postprocess", || {
+            let inputs: Vec<Polygon3> = polygons
+                .iter()
+                .map(|p| Polygon3::new(p.shell_points.clone(), p.hole_points.clone()))
+                .collect();
+            let planes: Vec<Plane> = polygons
+                .iter()
+                .map(|p| Plane::from_normal_and_point(p.plane.normal, p.plane.centroid))
+                .collect::<Result<_, _>>()?;
+            processor.process_many_3d(&inputs, &planes)
+        })?;
+        extraction.postprocessed = output
+            .polygons
+            .into_iter()
+            .map(|p| PostprocessedPolygon {
+                source: p.source as usize,
+                shell: p.polygon.shell,
+                holes: p.polygon.holes,
+            })
+            .collect();
+        let counts = &mut extraction.diagnostics.counts;
+        counts.postprocessed_polygons = extraction.postprocessed.len();
+        counts.postprocess_dropped = output.diagnostics.dropped.len();
+        Ok(())
+    }
+}
+
+fn backend(b: SmoothingBackend) -> Backend {
+    match b {
+        SmoothingBackend::Cpu => Backend::Cpu,
+        SmoothingBackend::CpuParallel => Backend::CpuParallel,
+        SmoothingBackend::Gpu => Backend::Gpu,
+    }
+}
+
+/// Dominant normals of the mesh's triangle normals; the sample fraction is raised so that
+/// at least `min_samples` normals are integrated.
+fn detect_normals(config: &crate::Config, mesh: &HalfEdgeMesh) -> Result<Vec<[f64; 3]>, PolylidarError> {
+    let f = config.fastga;
+    let normals = mesh.triangle_normals().unwrap_or(&[]);
+    if normals.is_empty() {
+        return Ok(Vec::new());
+    }
+    let floor = f.min_samples as f64 / normals.len() as f64;
+    let fraction = f.sample_fraction.max(floor).min(1.0);
+    let mut fastga = FastGa::new(
+        FastGaConfig::default()
+            .with_level(f.level)
+            .with_sample_fraction(fraction)
+            .with_value_threshold(f.value_threshold)
+            .with_cluster_distance(f.cluster_distance)
+            .with_min_cluster_weight(f.min_cluster_weight),
+    )?;
+    let found = fastga.detect(normals)?;
+    Ok(found.normals.iter().map(|d| d.normal).collect())
+}
