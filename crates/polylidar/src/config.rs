@@ -234,6 +234,36 @@ impl Config {
         self
     }
 
+    /// Sets [`Config::z_thresh`].
+    pub fn with_z_thresh(mut self, z_thresh: f64) -> Self {
+        self.z_thresh = z_thresh;
+        self
+    }
+
+    /// Sets [`Config::laplacian`] (`None`: no Laplacian smoothing).
+    pub fn with_laplacian(mut self, laplacian: Option<LaplacianConfig>) -> Self {
+        self.laplacian = laplacian;
+        self
+    }
+
+    /// Sets [`Config::bilateral`] (`None`: no bilateral normal smoothing).
+    pub fn with_bilateral(mut self, bilateral: Option<BilateralConfig>) -> Self {
+        self.bilateral = bilateral;
+        self
+    }
+
+    /// Sets [`Config::fastga`].
+    pub fn with_fastga(mut self, fastga: FastGaSection) -> Self {
+        self.fastga = fastga;
+        self
+    }
+
+    /// Sets [`Config::postprocess`] (`None`: polygons are returned as extracted).
+    pub fn with_postprocess(mut self, postprocess: Option<PostprocessSection>) -> Self {
+        self.postprocess = postprocess;
+        self
+    }
+
     /// The parameters of a named preset from the papers (see [`PRESETS`]), or `None`.
     ///
     /// * `rgbd` (Table 7): Laplacian λ 1, k 3, 2 it; bilateral σl 0.1, σa 0.15, k 3, 2 it;

@@ -71,7 +71,8 @@ pub struct PostprocessedPolygon {
 /// The result of a pipeline run.
 #[derive(Debug, Clone)]
 pub struct Extraction {
-    /// The triangulation the polygons were extracted from.
+    /// The triangulation the polygons were extracted from (2D with α > 0: the α-complex;
+    /// organized clouds: one vertex per pixel, NaN where invalid).
     pub mesh: HalfEdgeMesh,
     /// The polygons, ordered by their region's first triangle (3D: by dominant normal,
     /// then first triangle).
@@ -80,6 +81,43 @@ pub struct Extraction {
     pub postprocessed: Vec<PostprocessedPolygon>,
     /// Per-stage counts and timings.
     pub diagnostics: Diagnostics,
+}
+
+impl Extraction {
+    /// The polygon (index into [`Self::polygons`]) of every mesh vertex, `-1` for none: a
+    /// vertex takes the polygon of its triangles; when triangles of several polygons meet
+    /// at it, the polygon with more triangles wins (the lower index on a tie). For an
+    /// organized cloud vertex `r · cols + c` is pixel `(r, c)`, so this is the predicted
+    /// plane image, row-major.
+    ///
+    /// ```
+    /// use polylidar::{Config, Polylidar};
+    /// let points: Vec<[f64; 2]> = (0..100).map(|i| [(i % 10) as f64, (i / 10) as f64]).collect();
+    /// let extraction = Polylidar::new(Config::new().with_lmax(1.5))?.extract_2d(&points)?;
+    /// let labels = extraction.point_labels();
+    /// assert_eq!(labels.len(), 100);
+    /// assert!(labels.iter().all(|&l| l == 0));
+    /// # Ok::<(), polylidar::PolylidarError>(())
+    /// ```
+    pub fn point_labels(&self) -> Vec<i32> {
+        let mut labels = vec![-1i32; self.mesh.num_vertices()];
+        let triangles = self.mesh.triangles();
+        let size = |l: i32| self.polygons[l as usize].triangles.len();
+        for (index, polygon) in self.polygons.iter().enumerate() {
+            let label = index as i32;
+            let own = polygon.triangles.len();
+            for &t in &polygon.triangles {
+                for v in triangles[t as usize] {
+                    let slot = &mut labels[v as usize];
+                    // Polygons come in index order, so an equal size keeps the lower index.
+                    if *slot < 0 || size(*slot) < own {
+                        *slot = label;
+                    }
+                }
+            }
+        }
+        labels
+    }
 }
 
 /// The Polylidar pipeline for 2D point sets and 2.5D clouds.
@@ -141,14 +179,31 @@ impl Polylidar {
     pub fn extract_2d(&self, points: &[[f64; 2]]) -> Result<Extraction, PolylidarError> {
         self.install(|| {
             let mut timings = Timings::default();
+            let alpha = self.config.alpha;
+            if alpha > 0.0 {
+                // The α-complex is built directly (in parallel strips): the same triangles
+                // as Delaunay followed by the α test, without materialising the rest.
+                let (mesh, report) = timings.time("mesh", || {
+                    HalfEdgeMesh::alpha_complex_2d(points, alpha)
+                })?;
+                let counts = Counts {
+                    points: points.len(),
+                    duplicate_points: report.duplicate_points,
+                    triangles: report.delaunay_triangles,
+                    dropped_alpha: report.dropped_alpha,
+                    ..Counts::default()
+                };
+                return self.extract_from_mesh(mesh, None, 0.0, counts, timings, |p| [p[0], p[1]]);
+            }
             let (mesh, report) =
                 timings.time("mesh", || HalfEdgeMesh::delaunay_2d_with_report(points))?;
             let counts = Counts {
                 points: points.len(),
                 duplicate_points: report.duplicate_points,
+                triangles: mesh.num_triangles(),
                 ..Counts::default()
             };
-            self.extract_from_mesh(mesh, None, counts, timings, |p| [p[0], p[1]])
+            self.extract_from_mesh(mesh, None, 0.0, counts, timings, |p| [p[0], p[1]])
         })
     }
 
@@ -168,10 +223,12 @@ impl Polylidar {
             let counts = Counts {
                 points: points.len(),
                 duplicate_points: report.duplicate_points,
+                triangles: mesh.num_triangles(),
                 ..Counts::default()
             };
             let frame = PlaneFrame::new(up);
-            self.extract_from_mesh(mesh, Some(up), counts, timings, |p| frame.project(p))
+            let alpha = self.config.alpha;
+            self.extract_from_mesh(mesh, Some(up), alpha, counts, timings, |p| frame.project(p))
         })
     }
 
@@ -182,29 +239,31 @@ impl Polylidar {
         }
     }
 
-    /// Filter, regions and polygons on a built mesh.
+    /// Filter (α test with `alpha`, which is 0 when the mesh is already an α-complex),
+    /// regions and polygons on a built mesh. `counts.triangles` (and `dropped_alpha` of an
+    /// α-complex) are set by the caller.
     fn extract_from_mesh(
         &self,
         mesh: HalfEdgeMesh,
         up: Option<[f64; 3]>,
+        alpha: f64,
         mut counts: Counts,
         mut timings: Timings,
         project: impl Fn([f64; 3]) -> [f64; 2] + Sync,
     ) -> Result<Extraction, PolylidarError> {
         let config = &self.config;
-        counts.triangles = mesh.num_triangles();
         let (regions, kept) = timings.time("regions", || {
             let filter = TriangleFilter {
-                alpha: config.alpha,
+                alpha,
                 lmax: config.lmax,
                 normal: up.map(|u| (u, config.norm_thresh)),
             };
             let (keep, dropped) = filter.apply(&mesh);
             counts.dropped_normal = dropped.normal;
             counts.dropped_lmax = dropped.lmax;
-            counts.dropped_alpha = dropped.alpha;
+            counts.dropped_alpha += dropped.alpha;
             counts.triangles_kept =
-                counts.triangles - dropped.normal - dropped.lmax - dropped.alpha;
+                counts.triangles - dropped.normal - dropped.lmax - counts.dropped_alpha;
             let regions = Regions::grow(&mesh, &keep);
             let kept: Vec<usize> = (0..regions.len())
                 .filter(|&r| regions.region(r).len() >= config.min_triangles.max(1))

@@ -1,0 +1,331 @@
+//! Generated scenes with known planes through the 3D pipeline: organized scans and meshes
+//! of the same scenes, recovered with the right normals, counts and holes.
+
+use polylidar::{
+    BilateralConfig, Config, FastGaSection, Extraction, LaplacianConfig, OrganizedPointCloud, Polylidar,
+    PolylidarError,
+};
+use synthscan::{
+    FLOOR_LABEL, Noise, PinholeCamera, Pose, RampsConfig, RoomConfig, ScanResult, Scene,
+    StairsConfig,
+};
+
+/// Parameters for noise-free scenes: no smoothing; FastGA at level 5 (ramps 10° apart)
+/// keeps weak peaks (small planes next to a large floor), like the synpeb preset.
+fn config() -> Config {
+    Config::new()
+        .with_fastga(FastGaSection {
+            level: 5,
+            value_threshold: 3.0,
+            min_cluster_weight: 0.01,
+            ..FastGaSection::default()
+        })
+        .with_lmax(0.15)
+        .with_min_triangles(150)
+        .with_norm_thresh(0.98)
+        .with_min_hole_vertices(6)
+        .with_z_thresh(0.03)
+}
+
+fn scan(scene: &Scene, eye: [f64; 3], target: [f64; 3], noise: &Noise) -> ScanResult {
+    let pose = Pose::look_at(eye, target, [0.0, 0.0, 1.0]).expect("valid pose");
+    let camera = PinholeCamera::new(240, 320, 160.0, 160.0)
+        .expect("valid camera")
+        .with_pose(pose);
+    scene.scan(&camera, noise).expect("scan")
+}
+
+fn cloud(scan: &ScanResult) -> OrganizedPointCloud {
+    OrganizedPointCloud::new(scan.rows, scan.cols, scan.points.clone()).expect("cloud")
+}
+
+/// Per polygon: the ground-truth label most of its items carry and that share, where
+/// `items` gives each polygon's item ids and `truth` their labels.
+fn majorities(items: Vec<Vec<usize>>, truth: &[i32]) -> Vec<(i32, f64)> {
+    items
+        .into_iter()
+        .map(|ids| {
+            let mut labels: Vec<i32> = ids.iter().map(|&i| truth[i]).collect();
+            labels.sort_unstable();
+            let mut best = (labels[0], 0);
+            for run in labels.chunk_by(|a, b| a == b) {
+                if run.len() > best.1 {
+                    best = (run[0], run.len());
+                }
+            }
+            (best.0, best.1 as f64 / ids.len() as f64)
+        })
+        .collect()
+}
+
+/// Majority labels of each polygon's points (organized input: vertex = pixel).
+fn point_majorities(extraction: &Extraction, truth: &[i32]) -> Vec<(i32, f64)> {
+    let labels = extraction.point_labels();
+    let items = (0..extraction.polygons.len())
+        .map(|p| (0..labels.len()).filter(|&v| labels[v] == p as i32).collect())
+        .collect();
+    majorities(items, truth)
+}
+
+/// Majority labels of each polygon's triangles (mesh input, one label per triangle).
+fn triangle_majorities(extraction: &Extraction, truth: &[i32]) -> Vec<(i32, f64)> {
+    let items = extraction
+        .polygons
+        .iter()
+        .map(|p| p.triangles.iter().map(|&t| t as usize).collect())
+        .collect();
+    majorities(items, truth)
+}
+
+fn angle_deg(a: [f64; 3], b: [f64; 3]) -> f64 {
+    let d: f64 = (0..3).map(|k| a[k] * b[k]).sum();
+    d.clamp(-1.0, 1.0).acos().to_degrees()
+}
+
+/// Every polygon is one ground-truth plane (≥ `share` of its items), with that plane's
+/// normal within `degrees` and its centroid on it; no plane but `may_split` is found
+/// twice. Returns the labels found.
+fn check_planes(
+    extraction: &Extraction,
+    majorities: &[(i32, f64)],
+    planes: &[synthscan::GroundTruthPlane],
+    share: f64,
+    degrees: f64,
+    may_split: Option<i32>,
+) -> Vec<i32> {
+    let mut found = Vec::new();
+    for (polygon, &(label, s)) in extraction.polygons.iter().zip(majorities) {
+        assert!(s >= share, "polygon of plane {label} is only {s:.3} pure");
+        let truth = &planes[label as usize];
+        let angle = angle_deg(polygon.plane.normal, truth.normal);
+        assert!(angle <= degrees, "plane {label}: normal off by {angle:.3}°");
+        let c = polygon.plane.centroid;
+        let off: f64 = (0..3).map(|k| truth.normal[k] * c[k]).sum::<f64>() - truth.offset;
+        assert!(off.abs() < 0.01, "plane {label}: centroid {off:.4} m off the plane");
+        found.push(label);
+    }
+    let mut unique = found.clone();
+    unique.sort_unstable();
+    unique.dedup();
+    let split = found.iter().filter(|&&l| Some(l) == may_split).count().saturating_sub(1);
+    assert_eq!(unique.len() + split, found.len(), "a plane was split: {found:?}");
+    unique
+}
+
+/// Ray-casting point-in-ring test in xy.
+fn inside_xy(ring: &[[f64; 3]], p: [f64; 2]) -> bool {
+    let mut inside = false;
+    let mut j = ring.len() - 1;
+    for i in 0..ring.len() {
+        let (a, b) = (ring[i], ring[j]);
+        if (a[1] > p[1]) != (b[1] > p[1])
+            && p[0] < (b[0] - a[0]) * (p[1] - a[1]) / (b[1] - a[1]) + a[0]
+        {
+            inside = !inside;
+        }
+        j = i;
+    }
+    inside
+}
+
+/// Ground-truth labels with at least `min` points.
+fn visible(scan: &ScanResult, min: usize) -> Vec<i32> {
+    let counts = scan.label_counts();
+    (0..counts.len() as i32)
+        .filter(|&l| counts[l as usize] >= min)
+        .collect()
+}
+
+#[test]
+fn room_scan_finds_floor_with_obstacle_hole_table_and_walls() {
+    let room = RoomConfig::default();
+    let scene = Scene::room(&room).expect("room");
+    let scan = scan(&scene, [3.0, 0.3, 2.6], [3.2, 3.0, 0.0], &Noise::none());
+    let extraction = Polylidar::new(config())
+        .expect("config")
+        .extract_organized(&cloud(&scan))
+        .expect("extraction");
+    let majorities = point_majorities(&extraction, &scan.labels);
+    let found = check_planes(&extraction, &majorities, &scan.planes, 0.98, 1.0, None);
+
+    // Every plane seen by at least 3 × min_triangles pixels is found.
+    for label in visible(&scan, 450) {
+        assert!(found.contains(&label), "plane {label} missed; found {found:?}");
+    }
+    // The floor: one polygon whose holes include the obstacle's footprint, while a free
+    // floor spot is inside the shell and in no hole.
+    let floor = majorities
+        .iter()
+        .position(|&(l, _)| l == FLOOR_LABEL)
+        .map(|i| &extraction.polygons[i])
+        .expect("floor found");
+    let obstacle = room.obstacle.expect("default room has an obstacle").center;
+    assert!(inside_xy(&floor.shell_points, obstacle));
+    assert!(floor.hole_points.iter().any(|h| inside_xy(h, obstacle)));
+    let free = [4.5, 3.5];
+    assert!(inside_xy(&floor.shell_points, free));
+    assert!(!floor.hole_points.iter().any(|h| inside_xy(h, free)));
+    // The table top is a horizontal plane at its height.
+    let table = room.table.expect("default room has a table");
+    let top = extraction
+        .polygons
+        .iter()
+        .find(|p| inside_xy(&p.shell_points, table.center) && p.plane.centroid[2] > 0.5)
+        .expect("table top found");
+    assert!((top.plane.centroid[2] - table.height).abs() < 0.01);
+
+    let c = &extraction.diagnostics.counts;
+    assert_eq!(c.polygons, extraction.polygons.len());
+    assert_eq!(c.points, scan.num_valid());
+    assert!(c.dominant_normals >= 3);
+}
+
+#[test]
+fn room_mesh_gives_the_same_planes_as_its_scan_without_occlusion() {
+    let room = RoomConfig::default();
+    let scene = Scene::room(&room).expect("room");
+    let (vertices, triangles, labels) = scene.to_mesh(0.1).expect("mesh");
+    let extraction = Polylidar::new(config().with_min_triangles(20).with_min_hole_vertices(3))
+        .expect("config")
+        .extract_mesh(vertices, triangles)
+        .expect("extraction");
+    let majorities = triangle_majorities(&extraction, &labels);
+    let found = check_planes(&extraction, &majorities, &scene.ground_truth(), 1.0, 1e-6, None);
+    // Floor, four walls, ceiling, table top and the obstacle's top are all large.
+    for label in 0..=6 {
+        assert!(found.contains(&label), "plane {label} missed; found {found:?}");
+    }
+    // Seen whole, the floor has one hole per leg and one for the obstacle.
+    let floor = majorities
+        .iter()
+        .position(|&(l, _)| l == FLOOR_LABEL)
+        .map(|i| &extraction.polygons[i])
+        .expect("floor found");
+    assert_eq!(floor.holes.len(), 5);
+    let obstacle = room.obstacle.expect("obstacle").center;
+    assert!(floor.hole_points.iter().any(|h| inside_xy(h, obstacle)));
+}
+
+#[test]
+fn stairs_scan_finds_every_tread_and_riser() {
+    let scene = Scene::stairs(&StairsConfig::default()).expect("stairs");
+    // From the front and above, looking up the stairs.
+    let scan = scan(&scene, [-1.2, 0.5, 1.6], [0.8, 0.5, 0.2], &Noise::none());
+    let extraction = Polylidar::new(config().with_lmax(0.1).with_min_triangles(100))
+        .expect("config")
+        .extract_organized(&cloud(&scan))
+        .expect("extraction");
+    let majorities = point_majorities(&extraction, &scan.labels);
+    // The treads are small and seen edge-on: a row of riser pixels just below each nosing
+    // lies within a pixel of the tread's plane and joins it.
+    let found = check_planes(&extraction, &majorities, &scan.planes, 0.85, 1.0, None);
+    // Floor plus 4 risers and 4 treads.
+    for label in 0..9 {
+        assert!(found.contains(&label), "plane {label} missed; found {found:?}");
+    }
+}
+
+#[test]
+fn ramps_scan_finds_each_tilted_plane() {
+    let ramps = RampsConfig::default();
+    let scene = Scene::ramps(&ramps).expect("ramps");
+    let scan = scan(&scene, [-1.5, 2.0, 2.5], [1.0, 2.0, 0.0], &Noise::none());
+    // cos 8° between the floor and the 10° ramp, so the two stay apart.
+    let extraction = Polylidar::new(config().with_norm_thresh(0.99))
+        .expect("config")
+        .extract_organized(&cloud(&scan))
+        .expect("extraction");
+    let majorities = point_majorities(&extraction, &scan.labels);
+    // Pixels along the ramps' edges lie within a pixel of the neighbouring plane; the
+    // ramps' shadows cut the floor behind them off from the floor in front.
+    let found = check_planes(&extraction, &majorities, &scan.planes, 0.9, 1.0, Some(FLOOR_LABEL));
+    for (i, angle) in ramps.angles_deg.iter().enumerate() {
+        let slope = 4 * i as i32 + 4;
+        assert!(found.contains(&slope), "ramp at {angle}° missed; found {found:?}");
+    }
+    assert!(found.contains(&FLOOR_LABEL));
+}
+
+/// A noisy scan through the whole stack (Laplacian, bilateral, FastGA, planes).
+fn noisy_room(threads: usize) -> (ScanResult, Extraction) {
+    let scene = Scene::room(&RoomConfig::default()).expect("room");
+    let scan = scan(&scene, [3.0, 0.3, 2.6], [3.2, 3.0, 0.0], &Noise::new(0.004, 0.0, 7));
+    let config = config()
+        .with_z_thresh(0.05)
+        .with_norm_thresh(0.95)
+        .with_laplacian(Some(LaplacianConfig {
+            kernel: 5,
+            iterations: 4,
+            ..LaplacianConfig::default()
+        }))
+        .with_bilateral(Some(BilateralConfig::default()))
+        .with_threads(threads);
+    let extraction = Polylidar::new(config)
+        .expect("config")
+        .extract_organized(&cloud(&scan))
+        .expect("extraction");
+    (scan, extraction)
+}
+
+#[test]
+fn noisy_scan_with_smoothing_recovers_the_large_planes() {
+    let (scan, extraction) = noisy_room(0);
+    let majorities = point_majorities(&extraction, &scan.labels);
+    // Floor, far wall, table top, obstacle top: each found once, within 2°.
+    for label in [FLOOR_LABEL, 3, 7, 28] {
+        let truth = &scan.planes[label as usize];
+        let good = extraction
+            .polygons
+            .iter()
+            .zip(&majorities)
+            .filter(|(p, m)| m.0 == label && angle_deg(p.plane.normal, truth.normal) <= 2.0)
+            .count();
+        assert_eq!(good, 1, "plane {label}");
+    }
+    // Smoothing across depth edges (a table leg in front of the floor) bends a few floor
+    // pixels toward the camera; such spurious pieces stay small.
+    let total: usize = extraction.polygons.iter().map(|p| p.triangles.len()).sum();
+    let off: usize = extraction
+        .polygons
+        .iter()
+        .zip(&majorities)
+        .filter(|(p, m)| angle_deg(p.plane.normal, scan.planes[m.0 as usize].normal) > 5.0)
+        .map(|(p, _)| p.triangles.len())
+        .sum();
+    assert!(off * 100 < total, "{off} of {total} triangles in off-normal polygons");
+    let timings = &extraction.diagnostics.timings;
+    for stage in ["laplacian", "mesh", "bilateral", "fastga", "planes_polygons"] {
+        assert!(timings.get(stage).is_some(), "no timing for {stage}");
+    }
+}
+
+#[test]
+fn same_output_at_any_thread_count() {
+    let (_, one) = noisy_room(1);
+    for threads in [2, 3] {
+        let (_, many) = noisy_room(threads);
+        assert_eq!(one.polygons, many.polygons, "{threads} threads");
+        assert_eq!(one.diagnostics.counts, many.diagnostics.counts);
+    }
+}
+
+#[test]
+fn bad_3d_input_gives_errors() {
+    let polylidar = Polylidar::new(config()).expect("config");
+    let nan = OrganizedPointCloud::new(2, 2, vec![[f64::NAN; 3]; 4]).expect("cloud");
+    assert!(matches!(
+        polylidar.extract_organized(&nan),
+        Err(PolylidarError::Organized(_))
+    ));
+    let vertices = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+    assert!(matches!(
+        polylidar.extract_mesh(vertices.clone(), vec![[0, 1, 3]]),
+        Err(PolylidarError::Mesh(_))
+    ));
+    let mut bad = vertices;
+    bad[1][2] = f64::NAN;
+    assert!(matches!(
+        polylidar.extract_mesh(bad, vec![[0, 1, 2]]),
+        Err(PolylidarError::Mesh(_))
+    ));
+}
