@@ -2,9 +2,9 @@
 
 use std::path::PathBuf;
 
-use clap::{Args, Parser, Subcommand};
+use clap::{Args, Parser, Subcommand, ValueEnum};
 
-/// Planes and polygons with holes from 2D point sets and point clouds.
+/// Planes and polygons with holes from 2D point sets, point clouds, range images and meshes.
 #[derive(Debug, Parser)]
 #[command(name = "polylidar", version, about)]
 pub struct Cli {
@@ -16,32 +16,72 @@ pub struct Cli {
 /// Subcommands.
 #[derive(Debug, Subcommand)]
 pub enum Command {
-    /// Extract polygons from a point file (or the built-in demo) and write them out.
+    /// Extract planes and polygons from a file (or a built-in demo) and write them out.
     Extract(ExtractArgs),
+    /// Score a planar segmentation of an organized cloud against ground-truth labels.
+    Evaluate(EvaluateArgs),
+    /// Generate a SynPEB-like organized scan with ground-truth plane labels.
+    Generate(GenerateArgs),
+}
+
+/// The built-in inputs of `--demo`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum Demo {
+    /// A generated room with random polyhedra, scanned by a 500 × 500 range sensor with
+    /// 1 mdeg noise, run with the `synpeb` preset and scored against its ground truth.
+    Scene,
+    /// 8,000 2D points sampled inside a shape with three holes (the 2D pipeline).
+    Shape,
+}
+
+/// Input and parameters shared by `extract` and `evaluate`.
+#[derive(Debug, Args)]
+pub struct InputArgs {
+    /// Input file. 2D points: .csv/.txt/.xyz or .npy with 2 columns. Unorganized 3D clouds
+    /// (2.5D pipeline): 3 columns, .ply/.obj without faces, .las/.laz. Organized clouds:
+    /// .pcd with HEIGHT > 1, .npy H×W×3, 16-bit depth .png with its `_metadata.csv`.
+    /// Meshes: .ply/.obj with faces.
+    #[arg(required_unless_present = "demo", conflicts_with = "demo")]
+    pub input: Option<PathBuf>,
+    /// Run on a built-in input instead of a file (`scene` when no value is given).
+    #[arg(long, value_enum, num_args = 0..=1, default_missing_value = "scene")]
+    pub demo: Option<Demo>,
+    /// Start from a named parameter preset of the papers: rgbd, synpeb, rooftop, kitti,
+    /// mesh-basement, mesh-mainfloor.
+    #[arg(long, value_name = "NAME")]
+    pub preset: Option<String>,
+    /// TOML file with parameters (the field names of `polylidar::Config`); it overrides the
+    /// preset field by field, and flags override both.
+    #[arg(long, value_name = "FILE")]
+    pub config: Option<PathBuf>,
+    /// Organized input: keep every N-th row and column.
+    #[arg(long, value_name = "N", default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..))]
+    pub stride: u32,
+    /// Parameter flags, each overriding the preset and the config file.
+    #[command(flatten)]
+    pub params: ParamArgs,
 }
 
 /// Arguments of `polylidar extract`.
 #[derive(Debug, Args)]
 pub struct ExtractArgs {
-    /// Input file: .csv/.txt/.xyz (N×2 or N×3), .npy (N×2, N×3), .ply, .las/.laz.
-    /// 2-column data runs the 2D pipeline, 3D clouds the 2.5D one.
-    #[arg(required_unless_present = "demo", conflicts_with = "demo")]
-    pub input: Option<PathBuf>,
-    /// Run on the built-in demo: 8,000 points sampled inside a shape with three holes.
-    #[arg(long)]
-    pub demo: bool,
-    /// TOML file with parameters (the field names of `polylidar::Config`); flags win.
-    #[arg(long, value_name = "FILE")]
-    pub config: Option<PathBuf>,
-    /// Parameter flags, each overriding the config file.
+    /// The input and its parameters.
     #[command(flatten)]
-    pub params: ParamArgs,
+    pub input: InputArgs,
     /// Write the polygons as a GeoJSON FeatureCollection.
     #[arg(short, long, value_name = "FILE")]
     pub output: Option<PathBuf>,
-    /// Draw points, shells and holes into a PNG picture.
+    /// Write the polygons as extracted, even when the parameters post-process them.
+    #[arg(long)]
+    pub raw: bool,
+    /// Draw the polygons into a PNG picture: over the range image for organized input, seen
+    /// along `up` otherwise.
     #[arg(long, value_name = "FILE")]
     pub plot: Option<PathBuf>,
+    /// Organized input: write the plane (polygon index) of every pixel as an int32 H×W
+    /// .npy, -1 for none.
+    #[arg(long, value_name = "FILE")]
+    pub labels_out: Option<PathBuf>,
     /// Print one JSON object with input, counts and median stage timings on stdout.
     #[arg(long)]
     pub json: bool,
@@ -50,10 +90,50 @@ pub struct ExtractArgs {
     pub repeat: u32,
 }
 
+/// Arguments of `polylidar evaluate`.
+#[derive(Debug, Args)]
+pub struct EvaluateArgs {
+    /// The organized cloud and the parameters to segment it with.
+    #[command(flatten)]
+    pub input: InputArgs,
+    /// Ground-truth plane per pixel: int32 (or int64) H×W or N .npy, -1 for none.
+    /// Required unless `--demo` (which knows its ground truth).
+    #[arg(long, value_name = "FILE", required_unless_present = "demo")]
+    pub labels: Option<PathBuf>,
+    /// Score these predicted labels (same layout as `--labels`) instead of running the
+    /// pipeline.
+    #[arg(long, value_name = "FILE")]
+    pub predicted: Option<PathBuf>,
+    /// Overlap both ways for a correct detection (Hoover et al.).
+    #[arg(long, default_value_t = 0.8)]
+    pub overlap: f64,
+}
+
+/// Arguments of `polylidar generate`.
+#[derive(Debug, Args)]
+pub struct GenerateArgs {
+    /// Scene seed (the room's random polyhedra).
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// Tangential (angular) noise in millidegrees; SynPEB uses 0.5, 1, 2 and 4.
+    #[arg(long, default_value_t = 1.0)]
+    pub noise_mdeg: f64,
+    /// Radial noise standard deviation in metres.
+    #[arg(long, default_value_t = 0.0)]
+    pub noise_radial: f64,
+    /// Output cloud: .pcd (binary, organized 500 × 500) or .npy (H×W×3 float64).
+    #[arg(short, long, value_name = "FILE")]
+    pub output: PathBuf,
+    /// Ground-truth plane per pixel as int32 H×W .npy (-1: nothing hit).
+    #[arg(long, value_name = "FILE")]
+    pub labels_out: PathBuf,
+}
+
 /// Flags named like the fields of `polylidar::Config`, in kebab case.
 #[derive(Debug, Args, Default)]
 pub struct ParamArgs {
-    /// Keep triangles whose circumradius is at most this (0 disables). Input length units.
+    /// 2D / 2.5D: keep triangles whose circumradius is at most this (0 disables). Input
+    /// length units.
     #[arg(long, allow_negative_numbers = true)]
     pub alpha: Option<f64>,
     /// Keep triangles whose longest edge is at most this (0 disables). Input length units.
@@ -65,9 +145,12 @@ pub struct ParamArgs {
     /// Drop holes with fewer vertices than this.
     #[arg(long)]
     pub min_hole_vertices: Option<usize>,
-    /// 2.5D: minimum cosine between a triangle normal and the up vector.
+    /// Minimum cosine between a triangle normal and its plane's (2.5D: the up vector).
     #[arg(long, allow_negative_numbers = true)]
     pub norm_thresh: Option<f64>,
+    /// 3D: largest point-to-plane distance of a triangle's centroid while growing a plane.
+    #[arg(long)]
+    pub z_thresh: Option<f64>,
     /// 2.5D: the up vector, as `x,y,z`.
     #[arg(
         long,

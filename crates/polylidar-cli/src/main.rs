@@ -2,11 +2,17 @@
 //!
 //! ```text
 //! polylidar extract --demo -o demo.geojson --plot demo.png
-//! polylidar extract points.csv --alpha 0.5 --json --repeat 20
+//! polylidar extract scan.pcd --preset synpeb --json --repeat 20
+//! polylidar extract points.csv --alpha 0.5 --plot points.png
+//! polylidar evaluate scan.pcd --labels truth.npy --preset synpeb
+//! polylidar generate --seed 3 --noise-mdeg 2 -o scan.pcd --labels-out truth.npy
 //! ```
 
 mod args;
+mod evaluate;
 mod geojson;
+mod input;
+mod params;
 mod plot;
 mod report;
 mod run;

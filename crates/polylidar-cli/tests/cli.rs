@@ -41,12 +41,13 @@ fn json(output: &Output) -> serde_json::Value {
 }
 
 #[test]
-fn demo_writes_geojson_and_png() {
-    let dir = scratch("demo");
+fn shape_demo_writes_geojson_and_png() {
+    let dir = scratch("demo-shape");
     let (geojson, png) = (dir.join("demo.geojson"), dir.join("demo.png"));
     let out = polylidar(&[
         "extract",
         "--demo",
+        "shape",
         "-o",
         geojson.to_str().unwrap(),
         "--plot",
@@ -66,7 +67,171 @@ fn demo_writes_geojson_and_png() {
     assert_eq!(rings.len(), 4, "a shell and the demo's three holes");
     let shell = rings[0].as_array().unwrap();
     assert_eq!(shell.first(), shell.last(), "GeoJSON rings are closed");
+    assert_eq!(shell[0].as_array().unwrap().len(), 2, "2D input, 2D coordinates");
     assert_eq!(&std::fs::read(&png).unwrap()[..8], b"\x89PNG\r\n\x1a\n");
+}
+
+#[test]
+fn scene_demo_runs_the_3d_pipeline_and_scores_it() {
+    let dir = scratch("demo-scene");
+    let (geojson, png) = (dir.join("scene.geojson"), dir.join("scene.png"));
+    let report = json(&polylidar(&[
+        "extract",
+        "--demo",
+        "-o",
+        geojson.to_str().unwrap(),
+        "--plot",
+        png.to_str().unwrap(),
+        "--json",
+    ]));
+    assert_eq!(report["input"]["kind"], "organized");
+    assert_eq!(report["input"]["rows"], 500);
+    let keys: Vec<&str> = report["timings_ms"]
+        .as_object()
+        .unwrap()
+        .keys()
+        .map(String::as_str)
+        .collect();
+    assert_eq!(
+        keys,
+        ["laplacian", "mesh", "bilateral", "fastga", "planes_polygons", "total"]
+    );
+    let metrics = &report["metrics"];
+    assert!(metrics["f"].as_f64().unwrap() > 0.0);
+    assert!(metrics["truth_planes"].as_u64().unwrap() > 10);
+
+    let collection: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&geojson).unwrap()).unwrap();
+    let features = collection["features"].as_array().unwrap();
+    assert_eq!(features.len() as u64, report["counts"]["polygons"].as_u64().unwrap());
+    assert!(features.len() >= 10);
+    for feature in features {
+        let p = &feature["properties"];
+        let n: Vec<f64> = p["normal"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect();
+        assert!((n.iter().map(|c| c * c).sum::<f64>() - 1.0).abs() < 1e-9);
+        assert!(p["area"].as_f64().unwrap() > 0.0);
+        assert!(p["triangles"].as_u64().unwrap() >= 1000, "synpeb preset: min_triangles 1000");
+        assert!(p["points"].as_u64().unwrap() > 0);
+        let first = &feature["geometry"]["coordinates"][0][0];
+        assert_eq!(first.as_array().unwrap().len(), 3, "3D coordinates");
+    }
+    assert_eq!(&std::fs::read(&png).unwrap()[..8], b"\x89PNG\r\n\x1a\n");
+}
+
+#[test]
+fn generated_scan_round_trips_through_extract_and_evaluate() {
+    let dir = scratch("generate");
+    let (scan, truth, predicted) = (dir.join("scan.pcd"), dir.join("truth.npy"), dir.join("pred.npy"));
+    let out = polylidar(&[
+        "generate",
+        "--seed",
+        "2",
+        "-o",
+        scan.to_str().unwrap(),
+        "--labels-out",
+        truth.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let extracted = json(&polylidar(&[
+        "extract",
+        scan.to_str().unwrap(),
+        "--preset",
+        "synpeb",
+        "--labels-out",
+        predicted.to_str().unwrap(),
+        "--json",
+    ]));
+    assert_eq!(extracted["input"]["rows"], 500);
+    assert!(extracted["counts"]["polygons"].as_u64().unwrap() >= 10);
+
+    // Scoring the saved prediction and scoring a fresh run agree.
+    let saved = json(&polylidar(&[
+        "evaluate",
+        scan.to_str().unwrap(),
+        "--labels",
+        truth.to_str().unwrap(),
+        "--predicted",
+        predicted.to_str().unwrap(),
+    ]));
+    let fresh = json(&polylidar(&[
+        "evaluate",
+        scan.to_str().unwrap(),
+        "--labels",
+        truth.to_str().unwrap(),
+        "--preset",
+        "synpeb",
+    ]));
+    assert_eq!(saved["metrics"], fresh["metrics"]);
+    assert_eq!(
+        saved["metrics"]["predicted_planes"],
+        extracted["counts"]["polygons"]
+    );
+    // The ground truth scored against itself is perfect.
+    let perfect = json(&polylidar(&[
+        "evaluate",
+        scan.to_str().unwrap(),
+        "--labels",
+        truth.to_str().unwrap(),
+        "--predicted",
+        truth.to_str().unwrap(),
+    ]));
+    assert_eq!(perfect["metrics"]["f"], 100.0);
+    assert_eq!(perfect["metrics"]["k"], 100.0);
+}
+
+#[test]
+fn mesh_input_gives_planes_and_post_processing_is_optional() {
+    let dir = scratch("mesh");
+    // Two 10 × 10 grids of unit squares: one at z = 0, one at z = 5 (a separate plane).
+    let mut obj = String::new();
+    for z in [0.0, 5.0] {
+        for i in 0..=10 {
+            for j in 0..=10 {
+                obj.push_str(&format!("v {i} {j} {z}\n"));
+            }
+        }
+    }
+    for layer in 0..2 {
+        for i in 0..10 {
+            for j in 0..10 {
+                let v = |a: usize, b: usize| layer * 121 + a * 11 + b + 1;
+                obj.push_str(&format!("f {} {} {}\n", v(i, j), v(i + 1, j), v(i + 1, j + 1)));
+                obj.push_str(&format!("f {} {} {}\n", v(i, j), v(i + 1, j + 1), v(i, j + 1)));
+            }
+        }
+    }
+    let mesh = dir.join("two_planes.obj");
+    std::fs::write(&mesh, obj).unwrap();
+    let config = dir.join("post.toml");
+    std::fs::write(&config, "lmax = 2.0\nmin_triangles = 10\n[postprocess]\nmin_area = 1.0\n").unwrap();
+    let run = |extra: &[&str]| -> serde_json::Value {
+        let geojson = dir.join("out.geojson");
+        let mut args = vec![
+            "extract",
+            mesh.to_str().unwrap(),
+            "--config",
+            config.to_str().unwrap(),
+            "-o",
+            geojson.to_str().unwrap(),
+        ];
+        args.extend(extra);
+        let out = polylidar(&args);
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        serde_json::from_str(&std::fs::read_to_string(&geojson).unwrap()).unwrap()
+    };
+    let processed = run(&[]);
+    let raw = run(&["--raw"]);
+    for collection in [&processed, &raw] {
+        let features = collection["features"].as_array().unwrap();
+        assert_eq!(features.len(), 2);
+        for f in features {
+            assert!((f["properties"]["area"].as_f64().unwrap() - 100.0).abs() < 1e-9);
+            assert_eq!(f["properties"]["triangles"], 200);
+            assert_eq!(f["properties"]["points"], 121);
+        }
+    }
+    assert!(processed["features"][0]["properties"]["source"].is_u64());
+    assert!(raw["features"][0]["properties"]["source"].is_null());
 }
 
 #[test]
@@ -127,12 +292,16 @@ fn bad_input_gives_clear_errors() {
 
     let config = dir.join("bad.toml");
     std::fs::write(&config, "alpah = 1.0\n").unwrap();
-    let bad_key = polylidar(&["extract", "--demo", "--config", config.to_str().unwrap()]);
+    let bad_key = polylidar(&["extract", "--demo", "shape", "--config", config.to_str().unwrap()]);
     assert!(!bad_key.status.success());
     let message = String::from_utf8_lossy(&bad_key.stderr);
     assert!(message.contains("alpah"), "{message}");
 
-    let negative = polylidar(&["extract", "--demo", "--alpha", "-1"]);
+    let preset = polylidar(&["extract", "--demo", "--preset", "lidar"]);
+    assert!(!preset.status.success());
+    assert!(String::from_utf8_lossy(&preset.stderr).contains("synpeb"));
+
+    let negative = polylidar(&["extract", "--demo", "shape", "--alpha", "-1"]);
     assert!(!negative.status.success());
     assert!(String::from_utf8_lossy(&negative.stderr).contains("alpha"));
 

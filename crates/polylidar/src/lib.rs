@@ -42,7 +42,7 @@ pub use config::{
 pub use diagnostics::{Counts, Diagnostics, Timings};
 pub use error::PolylidarError;
 pub use halfedge_mesh::{HalfEdgeMesh, MeshError};
-pub use opc_mesh::OrganizedPointCloud;
+pub use opc_mesh::{DepthOptions, Intrinsics, OrganizedPointCloud};
 pub use pipeline::{
     ExtractedPolygon, Extraction, PlaneFrame, Polylidar, PolygonPlane, PostprocessedPolygon,
 };

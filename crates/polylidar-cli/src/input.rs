@@ -1,0 +1,194 @@
+//! Loading inputs: files by extension, and the built-in demos.
+
+use std::path::{Path, PathBuf};
+
+use polylidar::{DepthOptions, Intrinsics, OrganizedPointCloud};
+use polylidar_io::InputKind;
+
+use crate::args::Demo;
+use crate::run::CliError;
+
+/// Points the 2D demo samples.
+pub const DEMO_SHAPE_POINTS: usize = 8000;
+/// Seed and tangential noise (mdeg) of the scene demo.
+pub const DEMO_SCENE: (u64, f64) = (0, 1.0);
+
+/// A loaded input, ready for the matching pipeline.
+pub enum Input {
+    /// A 2D point set.
+    Points2d(Vec<[f64; 2]>),
+    /// An unorganized 3D cloud, for the 2.5D pipeline.
+    Cloud(Vec<[f64; 3]>),
+    /// An organized cloud (range image, RGBD frame, depth image).
+    Organized(OrganizedPointCloud),
+    /// A triangle mesh.
+    Mesh {
+        /// Vertex coordinates.
+        vertices: Vec<[f64; 3]>,
+        /// Counter-clockwise triangles.
+        triangles: Vec<[u32; 3]>,
+    },
+}
+
+impl Input {
+    /// Number of points (organized: valid pixels; mesh: vertices).
+    pub fn len(&self) -> usize {
+        match self {
+            Input::Points2d(p) => p.len(),
+            Input::Cloud(p) => p.len(),
+            Input::Organized(c) => c.num_valid(),
+            Input::Mesh { vertices, .. } => vertices.len(),
+        }
+    }
+
+    /// The name used in reports.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Input::Points2d(_) => "points_2d",
+            Input::Cloud(_) => "cloud_2.5d",
+            Input::Organized(_) => "organized",
+            Input::Mesh { .. } => "mesh",
+        }
+    }
+
+    /// `rows × cols` of an organized input.
+    pub fn grid(&self) -> Option<(usize, usize)> {
+        match self {
+            Input::Organized(c) => Some((c.rows(), c.cols())),
+            _ => None,
+        }
+    }
+}
+
+/// A loaded input with where it came from and, for generated scenes, the ground truth.
+pub struct Loaded {
+    /// The data.
+    pub input: Input,
+    /// The path or the demo's name.
+    pub source: String,
+    /// Ground-truth plane label per point (generated scenes only).
+    pub truth: Option<Vec<i32>>,
+}
+
+/// Loads `path`, or the demo, with organized input downsampled by `stride`.
+pub fn load(path: Option<&Path>, demo: Option<Demo>, stride: usize) -> Result<Loaded, CliError> {
+    let mut loaded = match (path, demo) {
+        (Some(path), _) => Loaded {
+            input: load_file(path, stride)?,
+            source: path.display().to_string(),
+            truth: None,
+        },
+        (None, Some(Demo::Shape)) => Loaded {
+            input: demo_shape()?,
+            source: "built-in demo: shape".to_owned(),
+            truth: None,
+        },
+        (None, _) => demo_scene()?,
+    };
+    if let (Input::Organized(cloud), true) = (&loaded.input, stride > 1 && path.is_none()) {
+        let cols = cloud.cols();
+        loaded.truth = loaded.truth.map(|t| {
+            t.iter()
+                .enumerate()
+                .filter(|(i, _)| (i / cols) % stride == 0 && (i % cols) % stride == 0)
+                .map(|(_, &l)| l)
+                .collect()
+        });
+        loaded.input = Input::Organized(cloud.downsample(stride).map_err(polylidar::PolylidarError::from)?);
+    }
+    Ok(loaded)
+}
+
+fn load_file(path: &Path, stride: usize) -> Result<Input, CliError> {
+    let organized = |cloud: OrganizedPointCloud| -> Result<Input, CliError> {
+        let cloud = if stride > 1 {
+            cloud.downsample(stride).map_err(polylidar::PolylidarError::from)?
+        } else {
+            cloud
+        };
+        Ok(Input::Organized(cloud))
+    };
+    match polylidar_io::read_input(path)? {
+        InputKind::Points2d(points) => Ok(Input::Points2d(points)),
+        InputKind::Cloud(cloud) if cloud.is_organized() => organized(
+            OrganizedPointCloud::new(cloud.rows, cloud.cols, cloud.points)
+                .map_err(polylidar::PolylidarError::from)?,
+        ),
+        InputKind::Cloud(cloud) => Ok(Input::Cloud(cloud.points)),
+        InputKind::Mesh(mesh) => Ok(Input::Mesh {
+            vertices: mesh.vertices,
+            triangles: mesh.triangles,
+        }),
+        InputKind::Depth { image, intrinsics } => {
+            let camera = Intrinsics::new(intrinsics.fx, intrinsics.fy, intrinsics.ppx, intrinsics.ppy);
+            let mut options = DepthOptions::new(camera).with_stride(stride);
+            if let Some(scale) = intrinsics.depth_scale {
+                options = options.with_depth_scale(scale);
+            }
+            let cloud = OrganizedPointCloud::from_depth_image(
+                &image.data,
+                image.height,
+                image.width,
+                &options,
+            )
+            .map_err(polylidar::PolylidarError::from)?;
+            Ok(Input::Organized(cloud))
+        }
+    }
+}
+
+fn demo_shape() -> Result<Input, CliError> {
+    let shape = polylidar::shapes::demo_shape();
+    let points = polylidar::shapes::sample_uniform(&shape, DEMO_SHAPE_POINTS, 1)
+        .map_err(|e| CliError::Demo(e.to_string()))?;
+    Ok(Input::Points2d(points))
+}
+
+/// The SynPEB-like demo scan and its labels.
+fn demo_scene() -> Result<Loaded, CliError> {
+    let (seed, mdeg) = DEMO_SCENE;
+    let scan = generate_scan(seed, mdeg, 0.0)?;
+    let cloud = OrganizedPointCloud::new(scan.rows, scan.cols, scan.points)
+        .map_err(polylidar::PolylidarError::from)?;
+    Ok(Loaded {
+        input: Input::Organized(cloud),
+        source: format!("built-in demo: scene (seed {seed}, {mdeg} mdeg noise)"),
+        truth: Some(scan.labels),
+    })
+}
+
+/// A SynPEB-like scan: the room of `seed` scanned with the given noise.
+pub fn generate_scan(seed: u64, mdeg: f64, radial: f64) -> Result<synthscan::ScanResult, CliError> {
+    let demo = |e: synthscan::SceneError| CliError::Demo(e.to_string());
+    let (scene, sensor) = synthscan::synpeb_like(seed).map_err(demo)?;
+    let noise = synthscan::Noise::new(radial, mdeg, seed);
+    scene.scan(&sensor, &noise).map_err(demo)
+}
+
+/// Reads an integer label array (int32 or int64 .npy) with `expected` entries.
+pub fn read_labels(path: &Path, expected: usize) -> Result<Vec<i32>, CliError> {
+    let bad = |message: String| CliError::Labels {
+        path: PathBuf::from(path),
+        message,
+    };
+    let array = polylidar_io::read_npy(path)?;
+    let labels = array
+        .data
+        .iter()
+        .enumerate()
+        .map(|(i, &v)| {
+            if v.fract() == 0.0 && (-1.0..=f64::from(i32::MAX)).contains(&v) {
+                Ok(v as i32)
+            } else {
+                Err(bad(format!("entry {i} is {v}, not a label (-1 or a plane id ≥ 0)")))
+            }
+        })
+        .collect::<Result<Vec<i32>, CliError>>()?;
+    if labels.len() != expected {
+        return Err(bad(format!(
+            "{} labels for {expected} points",
+            labels.len()
+        )));
+    }
+    Ok(labels)
+}
