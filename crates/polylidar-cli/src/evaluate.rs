@@ -24,7 +24,12 @@ pub fn score(
         });
     };
     let options = EvaluateOptions::new().with_overlap(overlap);
-    Ok(seg_metrics::evaluate(cloud.points(), truth, predicted, &options)?)
+    Ok(seg_metrics::evaluate(
+        cloud.points(),
+        truth,
+        predicted,
+        &options,
+    )?)
 }
 
 /// `polylidar evaluate`: runs the pipeline (or reads `--predicted`) and prints the scores

@@ -123,8 +123,12 @@ mod tests {
         // A 2 × 2 square in the plane x = z, with a 1 × 1 hole: area 4·√2 − √2.
         let s = std::f64::consts::FRAC_1_SQRT_2;
         let lift = |p: [f64; 2]| [p[0], p[1], p[0]];
-        let shell: Vec<_> = [[0.0, 0.0], [2.0, 0.0], [2.0, 2.0], [0.0, 2.0]].map(lift).to_vec();
-        let hole: Vec<_> = [[0.5, 0.5], [0.5, 1.5], [1.5, 1.5], [1.5, 0.5]].map(lift).to_vec();
+        let shell: Vec<_> = [[0.0, 0.0], [2.0, 0.0], [2.0, 2.0], [0.0, 2.0]]
+            .map(lift)
+            .to_vec();
+        let hole: Vec<_> = [[0.5, 0.5], [0.5, 1.5], [1.5, 1.5], [1.5, 0.5]]
+            .map(lift)
+            .to_vec();
         let got = area([-s, 0.0, s], &shell, &[hole]);
         assert!((got - 3.0 * 2f64.sqrt()).abs() < 1e-12, "{got}");
     }

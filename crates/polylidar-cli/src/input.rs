@@ -94,7 +94,11 @@ pub fn load(path: Option<&Path>, demo: Option<Demo>, stride: usize) -> Result<Lo
                 .map(|(_, &l)| l)
                 .collect()
         });
-        loaded.input = Input::Organized(cloud.downsample(stride).map_err(polylidar::PolylidarError::from)?);
+        loaded.input = Input::Organized(
+            cloud
+                .downsample(stride)
+                .map_err(polylidar::PolylidarError::from)?,
+        );
     }
     Ok(loaded)
 }
@@ -102,7 +106,9 @@ pub fn load(path: Option<&Path>, demo: Option<Demo>, stride: usize) -> Result<Lo
 fn load_file(path: &Path, stride: usize) -> Result<Input, CliError> {
     let organized = |cloud: OrganizedPointCloud| -> Result<Input, CliError> {
         let cloud = if stride > 1 {
-            cloud.downsample(stride).map_err(polylidar::PolylidarError::from)?
+            cloud
+                .downsample(stride)
+                .map_err(polylidar::PolylidarError::from)?
         } else {
             cloud
         };
@@ -120,7 +126,8 @@ fn load_file(path: &Path, stride: usize) -> Result<Input, CliError> {
             triangles: mesh.triangles,
         }),
         InputKind::Depth { image, intrinsics } => {
-            let camera = Intrinsics::new(intrinsics.fx, intrinsics.fy, intrinsics.ppx, intrinsics.ppy);
+            let camera =
+                Intrinsics::new(intrinsics.fx, intrinsics.fy, intrinsics.ppx, intrinsics.ppy);
             let mut options = DepthOptions::new(camera).with_stride(stride);
             if let Some(scale) = intrinsics.depth_scale {
                 options = options.with_depth_scale(scale);
@@ -180,7 +187,9 @@ pub fn read_labels(path: &Path, expected: usize) -> Result<Vec<i32>, CliError> {
             if v.fract() == 0.0 && (-1.0..=f64::from(i32::MAX)).contains(&v) {
                 Ok(v as i32)
             } else {
-                Err(bad(format!("entry {i} is {v}, not a label (-1 or a plane id ≥ 0)")))
+                Err(bad(format!(
+                    "entry {i} is {v}, not a label (-1 or a plane id ≥ 0)"
+                )))
             }
         })
         .collect::<Result<Vec<i32>, CliError>>()?;

@@ -50,7 +50,9 @@ fn merge_file(base: Config, path: &Path) -> Result<Config, CliError> {
     let file: toml::Table = toml::from_str(&text).map_err(|e| error(e.to_string()))?;
     let mut merged = toml::Table::try_from(&base).map_err(|e| error(e.to_string()))?;
     merge(&mut merged, file);
-    merged.try_into().map_err(|e: toml::de::Error| error(e.to_string()))
+    merged
+        .try_into()
+        .map_err(|e: toml::de::Error| error(e.to_string()))
 }
 
 fn merge(into: &mut toml::Table, from: toml::Table) {

@@ -65,7 +65,9 @@ fn render_image(cloud: &OrganizedPointCloud, extraction: &Extraction) -> Result<
     let (lo, hi) = ranges
         .iter()
         .filter(|r| r.is_finite())
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &r| (lo.min(r), hi.max(r)));
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &r| {
+            (lo.min(r), hi.max(r))
+        });
     if !(lo <= hi) {
         return Err("no valid pixel to draw".to_owned());
     }
@@ -106,9 +108,19 @@ fn render_image(cloud: &OrganizedPointCloud, extraction: &Extraction) -> Result<
         ..Stroke::default()
     };
     for polygon in &extraction.polygons {
-        stroke_ring(&mut pixmap, polygon.shell.iter().map(|&v| to_px(v)), &paint(10, 80, 20, 255), &stroke);
+        stroke_ring(
+            &mut pixmap,
+            polygon.shell.iter().map(|&v| to_px(v)),
+            &paint(10, 80, 20, 255),
+            &stroke,
+        );
         for hole in &polygon.holes {
-            stroke_ring(&mut pixmap, hole.iter().map(|&v| to_px(v)), &paint(240, 130, 20, 255), &stroke);
+            stroke_ring(
+                &mut pixmap,
+                hole.iter().map(|&v| to_px(v)),
+                &paint(240, 130, 20, 255),
+                &stroke,
+            );
         }
     }
     pixmap.encode_png().map_err(|e| e.to_string())
@@ -153,7 +165,10 @@ fn render_projected(
         Input::Organized(c) => c.points().iter().map(|&q| frame.project(q)).collect(),
     };
     let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-    for p in points.iter().filter(|p| p[0].is_finite() && p[1].is_finite()) {
+    for p in points
+        .iter()
+        .filter(|p| p[0].is_finite() && p[1].is_finite())
+    {
         for k in 0..2 {
             lo[k] = lo[k].min(p[k]);
             hi[k] = hi[k].max(p[k]);
@@ -203,8 +218,11 @@ fn render_projected(
         width: 2.0,
         ..Stroke::default()
     };
-    let (fill, shell_paint, hole_paint) =
-        (paint(60, 180, 75, 70), paint(20, 110, 40, 255), paint(240, 130, 20, 255));
+    let (fill, shell_paint, hole_paint) = (
+        paint(60, 180, 75, 70),
+        paint(20, 110, 40, 255),
+        paint(240, 130, 20, 255),
+    );
     for (shell, holes) in rings {
         let mut all = PathBuilder::new();
         ring_path(project(shell).into_iter(), &mut all);
@@ -214,7 +232,12 @@ fn render_projected(
         if let Some(path) = all.finish() {
             pixmap.fill_path(&path, &fill, FillRule::EvenOdd, Transform::identity(), None);
         }
-        stroke_ring(&mut pixmap, project(shell).into_iter(), &shell_paint, &stroke);
+        stroke_ring(
+            &mut pixmap,
+            project(shell).into_iter(),
+            &shell_paint,
+            &stroke,
+        );
         for hole in holes {
             stroke_ring(&mut pixmap, project(hole).into_iter(), &hole_paint, &stroke);
         }

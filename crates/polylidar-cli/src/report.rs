@@ -69,7 +69,8 @@ pub fn metrics_json(e: &Evaluation) -> Value {
 }
 
 fn input_json(source: &str, input: &Input, runs: usize) -> Value {
-    let mut value = json!({ "source": source, "kind": input.kind(), "points": input.len(), "runs": runs });
+    let mut value =
+        json!({ "source": source, "kind": input.kind(), "points": input.len(), "runs": runs });
     if let Some((rows, cols)) = input.grid() {
         value["rows"] = json!(rows);
         value["cols"] = json!(cols);

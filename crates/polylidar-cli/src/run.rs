@@ -94,11 +94,12 @@ fn extract(args: &ExtractArgs) -> Result<(), CliError> {
         write(path, text.as_bytes())?;
     }
     if let Some(path) = &args.plot {
-        let png = plot::render(&input, &extraction, polylidar.config().up, processed)
-            .map_err(|message| CliError::Write {
+        let png = plot::render(&input, &extraction, polylidar.config().up, processed).map_err(
+            |message| CliError::Write {
                 path: path.clone(),
                 message,
-            })?;
+            },
+        )?;
         write(path, &png)?;
     }
     if let Some(path) = &args.labels_out {
@@ -110,14 +111,25 @@ fn extract(args: &ExtractArgs) -> Result<(), CliError> {
         write_labels(path, rows, cols, &extraction.point_labels())?;
     }
     let score = match &truth {
-        Some(truth) => Some(evaluate::score(&input, truth, &extraction.point_labels(), 0.8)?),
+        Some(truth) => Some(evaluate::score(
+            &input,
+            truth,
+            &extraction.point_labels(),
+            0.8,
+        )?),
         None => None,
     };
     let counts = &extraction.diagnostics.counts;
     if args.json {
-        println!("{}", report::json(&source, &input, counts, &timings, score.as_ref()));
+        println!(
+            "{}",
+            report::json(&source, &input, counts, &timings, score.as_ref())
+        );
     } else {
-        eprintln!("{}", report::summary(&source, &input, counts, &timings, score.as_ref()));
+        eprintln!(
+            "{}",
+            report::summary(&source, &input, counts, &timings, score.as_ref())
+        );
     }
     Ok(())
 }

@@ -67,7 +67,11 @@ fn shape_demo_writes_geojson_and_png() {
     assert_eq!(rings.len(), 4, "a shell and the demo's three holes");
     let shell = rings[0].as_array().unwrap();
     assert_eq!(shell.first(), shell.last(), "GeoJSON rings are closed");
-    assert_eq!(shell[0].as_array().unwrap().len(), 2, "2D input, 2D coordinates");
+    assert_eq!(
+        shell[0].as_array().unwrap().len(),
+        2,
+        "2D input, 2D coordinates"
+    );
     assert_eq!(&std::fs::read(&png).unwrap()[..8], b"\x89PNG\r\n\x1a\n");
 }
 
@@ -94,7 +98,14 @@ fn scene_demo_runs_the_3d_pipeline_and_scores_it() {
         .collect();
     assert_eq!(
         keys,
-        ["laplacian", "mesh", "bilateral", "fastga", "planes_polygons", "total"]
+        [
+            "laplacian",
+            "mesh",
+            "bilateral",
+            "fastga",
+            "planes_polygons",
+            "total"
+        ]
     );
     let metrics = &report["metrics"];
     assert!(metrics["f"].as_f64().unwrap() > 0.0);
@@ -103,14 +114,25 @@ fn scene_demo_runs_the_3d_pipeline_and_scores_it() {
     let collection: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&geojson).unwrap()).unwrap();
     let features = collection["features"].as_array().unwrap();
-    assert_eq!(features.len() as u64, report["counts"]["polygons"].as_u64().unwrap());
+    assert_eq!(
+        features.len() as u64,
+        report["counts"]["polygons"].as_u64().unwrap()
+    );
     assert!(features.len() >= 10);
     for feature in features {
         let p = &feature["properties"];
-        let n: Vec<f64> = p["normal"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect();
+        let n: Vec<f64> = p["normal"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|v| v.as_f64().unwrap())
+            .collect();
         assert!((n.iter().map(|c| c * c).sum::<f64>() - 1.0).abs() < 1e-9);
         assert!(p["area"].as_f64().unwrap() > 0.0);
-        assert!(p["triangles"].as_u64().unwrap() >= 1000, "synpeb preset: min_triangles 1000");
+        assert!(
+            p["triangles"].as_u64().unwrap() >= 1000,
+            "synpeb preset: min_triangles 1000"
+        );
         assert!(p["points"].as_u64().unwrap() > 0);
         let first = &feature["geometry"]["coordinates"][0][0];
         assert_eq!(first.as_array().unwrap().len(), 3, "3D coordinates");
@@ -121,7 +143,11 @@ fn scene_demo_runs_the_3d_pipeline_and_scores_it() {
 #[test]
 fn generated_scan_round_trips_through_extract_and_evaluate() {
     let dir = scratch("generate");
-    let (scan, truth, predicted) = (dir.join("scan.pcd"), dir.join("truth.npy"), dir.join("pred.npy"));
+    let (scan, truth, predicted) = (
+        dir.join("scan.pcd"),
+        dir.join("truth.npy"),
+        dir.join("pred.npy"),
+    );
     let out = polylidar(&[
         "generate",
         "--seed",
@@ -131,7 +157,11 @@ fn generated_scan_round_trips_through_extract_and_evaluate() {
         "--labels-out",
         truth.to_str().unwrap(),
     ]);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let extracted = json(&polylidar(&[
         "extract",
         scan.to_str().unwrap(),
@@ -195,15 +225,29 @@ fn mesh_input_gives_planes_and_post_processing_is_optional() {
         for i in 0..10 {
             for j in 0..10 {
                 let v = |a: usize, b: usize| layer * 121 + a * 11 + b + 1;
-                obj.push_str(&format!("f {} {} {}\n", v(i, j), v(i + 1, j), v(i + 1, j + 1)));
-                obj.push_str(&format!("f {} {} {}\n", v(i, j), v(i + 1, j + 1), v(i, j + 1)));
+                obj.push_str(&format!(
+                    "f {} {} {}\n",
+                    v(i, j),
+                    v(i + 1, j),
+                    v(i + 1, j + 1)
+                ));
+                obj.push_str(&format!(
+                    "f {} {} {}\n",
+                    v(i, j),
+                    v(i + 1, j + 1),
+                    v(i, j + 1)
+                ));
             }
         }
     }
     let mesh = dir.join("two_planes.obj");
     std::fs::write(&mesh, obj).unwrap();
     let config = dir.join("post.toml");
-    std::fs::write(&config, "lmax = 2.0\nmin_triangles = 10\n[postprocess]\nmin_area = 1.0\n").unwrap();
+    std::fs::write(
+        &config,
+        "lmax = 2.0\nmin_triangles = 10\n[postprocess]\nmin_area = 1.0\n",
+    )
+    .unwrap();
     let run = |extra: &[&str]| -> serde_json::Value {
         let geojson = dir.join("out.geojson");
         let mut args = vec![
@@ -216,7 +260,11 @@ fn mesh_input_gives_planes_and_post_processing_is_optional() {
         ];
         args.extend(extra);
         let out = polylidar(&args);
-        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
         serde_json::from_str(&std::fs::read_to_string(&geojson).unwrap()).unwrap()
     };
     let processed = run(&[]);
@@ -292,7 +340,13 @@ fn bad_input_gives_clear_errors() {
 
     let config = dir.join("bad.toml");
     std::fs::write(&config, "alpah = 1.0\n").unwrap();
-    let bad_key = polylidar(&["extract", "--demo", "shape", "--config", config.to_str().unwrap()]);
+    let bad_key = polylidar(&[
+        "extract",
+        "--demo",
+        "shape",
+        "--config",
+        config.to_str().unwrap(),
+    ]);
     assert!(!bad_key.status.success());
     let message = String::from_utf8_lossy(&bad_key.stderr);
     assert!(message.contains("alpah"), "{message}");
