@@ -72,7 +72,8 @@ fn post_inputs(extraction: &Extraction) -> (Vec<Polygon3>, Vec<Plane>) {
         .map(|p| {
             (
                 Polygon3::new(p.shell_points.clone(), p.hole_points.clone()),
-                Plane::from_normal_and_point(p.plane.normal, p.plane.centroid).expect("unit normal"),
+                Plane::from_normal_and_point(p.plane.normal, p.plane.centroid)
+                    .expect("unit normal"),
             )
         })
         .unzip()
@@ -96,25 +97,43 @@ fn bench(c: &mut Criterion) {
     .expect("valid post-processing");
 
     let mut group = c.benchmark_group("pipeline_3d");
-    group.sample_size(20).measurement_time(Duration::from_secs(10));
+    group
+        .sample_size(20)
+        .measurement_time(Duration::from_secs(10));
     for (name, rel, preset) in frames {
-        let Some(cloud) = organized(rel) else { continue };
+        let Some(cloud) = organized(rel) else {
+            continue;
+        };
         for threads in [1, 2] {
-            let config = Config::preset(preset).expect("preset").with_threads(threads);
+            let config = Config::preset(preset)
+                .expect("preset")
+                .with_threads(threads);
             let polylidar = Polylidar::new(config).expect("valid preset");
             print_stages(name, &polylidar, &cloud);
             group.bench_function(format!("{name}_{preset}_{threads}_threads"), |b| {
-                b.iter(|| polylidar.extract_organized(black_box(&cloud)).expect("extraction"))
+                b.iter(|| {
+                    polylidar
+                        .extract_organized(black_box(&cloud))
+                        .expect("extraction")
+                })
             });
         }
-        let raw = Polylidar::new(Config::preset(preset).expect("preset").with_postprocess(None))
-            .expect("valid preset")
-            .extract_organized(&cloud)
-            .expect("extraction");
+        let raw = Polylidar::new(
+            Config::preset(preset)
+                .expect("preset")
+                .with_postprocess(None),
+        )
+        .expect("valid preset")
+        .extract_organized(&cloud)
+        .expect("extraction");
         let (polygons, planes) = post_inputs(&raw);
         eprintln!("{name}: post-processing {} polygons", polygons.len());
         group.bench_function(format!("{name}_postprocess_rgbd"), |b| {
-            b.iter(|| processor.process_many_3d(black_box(&polygons), &planes).expect("post"))
+            b.iter(|| {
+                processor
+                    .process_many_3d(black_box(&polygons), &planes)
+                    .expect("post")
+            })
         });
     }
     group.finish();
