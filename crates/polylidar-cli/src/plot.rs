@@ -68,7 +68,7 @@ fn render_image(cloud: &OrganizedPointCloud, extraction: &Extraction) -> Result<
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &r| {
             (lo.min(r), hi.max(r))
         });
-    if !(lo <= hi) {
+    if lo > hi {
         return Err("no valid pixel to draw".to_owned());
     }
     let labels = extraction.point_labels();
@@ -88,14 +88,16 @@ fn render_image(cloud: &OrganizedPointCloud, extraction: &Extraction) -> Result<
     }
     let mut pixmap = Pixmap::new(width, height).ok_or("picture too large")?;
     let zoom = Transform::from_scale(scale as f32, scale as f32);
-    let mut pattern = Paint::default();
-    pattern.shader = tiny_skia::Pattern::new(
-        image.as_ref(),
-        tiny_skia::SpreadMode::Pad,
-        tiny_skia::FilterQuality::Nearest,
-        1.0,
-        zoom,
-    );
+    let pattern = Paint {
+        shader: tiny_skia::Pattern::new(
+            image.as_ref(),
+            tiny_skia::SpreadMode::Pad,
+            tiny_skia::FilterQuality::Nearest,
+            1.0,
+            zoom,
+        ),
+        ..Paint::default()
+    };
     let full = Rect::from_xywh(0.0, 0.0, width as f32, height as f32).ok_or("empty picture")?;
     pixmap.fill_rect(full, &pattern, Transform::identity(), None);
 
@@ -198,7 +200,8 @@ fn render_projected(
         }
     }
 
-    let rings: Vec<(&[[f64; 3]], &[Vec<[f64; 3]>])> = if processed {
+    type Rings<'a> = (&'a [[f64; 3]], &'a [Vec<[f64; 3]>]);
+    let rings: Vec<Rings<'_>> = if processed {
         extraction
             .postprocessed
             .iter()
