@@ -30,14 +30,18 @@ mod config;
 mod diagnostics;
 mod error;
 mod filter;
+mod noise;
 mod pipeline;
 mod pipeline3d;
 mod regions;
 pub mod shapes;
 
 pub use config::{
-    BilateralConfig, Config, FastGaSection, LaplacianConfig, PRESETS, PostprocessSection,
-    SmoothingBackend,
+    BilateralConfig, Config, FastGaSection, LaplacianConfig, LaplacianIterations, PRESETS,
+    PostprocessSection, SmoothingBackend,
+};
+pub use noise::{
+    MAX_AUTO_ITERATIONS, estimate_noise, estimate_noise_absolute, predict_laplacian_iterations,
 };
 pub use diagnostics::{Counts, Diagnostics, Timings};
 pub use error::PolylidarError;

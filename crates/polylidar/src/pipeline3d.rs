@@ -8,7 +8,7 @@ use opc_mesh::{OpcMeshOptions, OrganizedPointCloud};
 use planeseg::SegmentationConfig;
 use polypost::{Plane, Polygon3, PostProcessor, PostprocessConfig};
 
-use crate::config::SmoothingBackend;
+use crate::config::{LaplacianIterations, SmoothingBackend};
 use crate::pipeline::PolygonPlane;
 use crate::{Counts, Diagnostics, ExtractedPolygon, Extraction, Polylidar, PolylidarError, PostprocessedPolygon, Timings};
 
@@ -26,15 +26,35 @@ impl Polylidar {
             let config = self.config();
             let mut timings = Timings::default();
             let smoothed;
+            let mut laplacian_iterations = 0;
             let cloud = match &config.laplacian {
                 Some(l) => {
-                    let options = LaplacianOptions::new()
-                        .with_kernel(l.kernel)
-                        .with_lambda(l.lambda)
-                        .with_iterations(l.iterations)
-                        .with_backend(backend(l.backend));
-                    smoothed = timings.time("laplacian", || mesh_smooth_gpu::laplacian_filter(cloud, &options))?;
-                    &smoothed
+                    let result = timings.time("laplacian", || {
+                        let iterations = match l.iterations {
+                            LaplacianIterations::Fixed(n) => n,
+                            LaplacianIterations::Auto => {
+                                crate::noise::estimate_noise(cloud).map_or(0, crate::noise::predict_laplacian_iterations)
+                            }
+                        };
+                        if iterations == 0 {
+                            return Ok((0, None));
+                        }
+                        let options = LaplacianOptions::new()
+                            .with_kernel(l.kernel)
+                            .with_lambda(l.lambda)
+                            .with_iterations(iterations)
+                            .with_backend(backend(l.backend));
+                        mesh_smooth_gpu::laplacian_filter(cloud, &options).map(|s| (iterations, Some(s)))
+                    });
+                    let (iterations, filtered) = result?;
+                    laplacian_iterations = iterations;
+                    match filtered {
+                        Some(s) => {
+                            smoothed = s;
+                            &smoothed
+                        }
+                        None => cloud,
+                    }
                 }
                 None => cloud,
             };
@@ -52,6 +72,7 @@ impl Polylidar {
             }
             let counts = Counts {
                 points: cloud.num_valid(),
+                laplacian_iterations,
                 ..Counts::default()
             };
             self.extract_planes(opc.mesh, None, counts, timings)

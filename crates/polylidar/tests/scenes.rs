@@ -255,7 +255,7 @@ fn noisy_room(threads: usize) -> (ScanResult, Extraction) {
         .with_norm_thresh(0.95)
         .with_laplacian(Some(LaplacianConfig {
             kernel: 5,
-            iterations: 4,
+            iterations: 4.into(),
             ..LaplacianConfig::default()
         }))
         .with_bilateral(Some(BilateralConfig::default()))

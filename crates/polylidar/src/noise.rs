@@ -1,0 +1,225 @@
+//! Point-noise estimation for organized clouds, and the trained model that turns it into a
+//! Laplacian iteration count (`iterations = "auto"`, 3D paper §9.3.2: "a linear regression
+//! model to predict the most suitable number of iterations given an estimate of point
+//! cloud noise").
+
+use opc_mesh::OrganizedPointCloud;
+
+/// At most about this many 3 × 3 neighbourhoods are fitted per cloud (a regular grid of
+/// them); about 0.5 ms on a 500 × 500 cloud in a release build.
+const TARGET_SAMPLES: usize = 8192;
+
+/// Intercept of the trained model `iterations ≈ A + B · estimate_noise(cloud)`.
+///
+/// Obtained by `cargo run --release -p polylidar --example train_laplacian`: for training
+/// seeds 0–5 of `synthscan::synpeb_like` at tangential noise 0.5, 1, 2 and 4 mdeg plus
+/// radial noise of 1 or 2.5 mm per mdeg (48 frames, relative noise 0.02–0.30), the
+/// `synpeb` preset was run with Laplacian iterations 0, 1, 2, 4, 6, 8, 10, 12, the best
+/// count per frame picked by the f score (ties: k, then fewer iterations), and a least-
+/// squares line fitted through (estimate, best count): RMS residual 0.44 iterations.
+/// Rerun that command to regenerate (it prints the fit).
+const MODEL_INTERCEPT: f64 = 0.3538;
+/// Slope of the trained model (iterations per unit of relative noise); see
+/// [`MODEL_INTERCEPT`].
+const MODEL_SLOPE: f64 = 6.343;
+/// Largest iteration count the model may predict.
+pub const MAX_AUTO_ITERATIONS: u32 = 16;
+
+/// A robust estimate of the point noise of an organized cloud, relative to the point
+/// spacing (dimensionless): the median, over a regular grid of up to about 8,192 pixels,
+/// of the RMS distance of the pixel's 3 × 3 neighbourhood to its least-squares plane,
+/// divided by the neighbourhood's in-plane spacing.
+///
+/// The in-plane spacing is `√(3/2) · (λ₁λ₂)^¼` for the two larger eigenvalues λ₁, λ₂ of the
+/// neighbourhood's covariance, which is exactly the grid step on a regular square grid;
+/// the RMS distance is `√λ₀` for the smallest eigenvalue. The ratio is about the tangent of
+/// the normals' noise angle, so it does not depend on the length unit, the range or the
+/// sensor's resolution. Neighbourhoods with an invalid (NaN) point or with collinear
+/// points are skipped; the median keeps the neighbourhoods that straddle a plane edge (a
+/// minority) from dominating. A noise-free cloud of planes gives (nearly) 0.
+///
+/// Returns `None` when no 3 × 3 neighbourhood of the sample is fully valid (an all-NaN
+/// cloud, or one smaller than 3 × 3).
+///
+/// Deterministic; single-threaded; one allocation (the sample buffer) per call.
+///
+/// ```
+/// use polylidar::{OrganizedPointCloud, estimate_noise};
+///
+/// // A 40 × 40 tilted plane with a 1 cm grid step, then the same with ±1 mm bumps.
+/// let plane = |bump: f64| -> Vec<[f64; 3]> {
+///     (0..1600)
+///         .map(|i| {
+///             let (r, c) = ((i / 40) as f64 * 0.01, (i % 40) as f64 * 0.01);
+///             let z = 0.3 * r + if (i / 40 + i % 40) % 2 == 0 { bump } else { -bump };
+///             [c, r, z]
+///         })
+///         .collect()
+/// };
+/// let flat = OrganizedPointCloud::new(40, 40, plane(0.0))?;
+/// assert!(estimate_noise(&flat).unwrap() < 1e-9);
+/// let bumpy = OrganizedPointCloud::new(40, 40, plane(0.001))?;
+/// let e = estimate_noise(&bumpy).unwrap();
+/// assert!(e > 0.05 && e < 0.2, "{e}");
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn estimate_noise(cloud: &OrganizedPointCloud) -> Option<f64> {
+    median_of(cloud, |fit| fit.relative())
+}
+
+/// As [`estimate_noise`], but the median RMS plane distance itself, in the cloud's length
+/// unit (metres for most clouds): not scale-aware, so it depends on range and resolution.
+pub fn estimate_noise_absolute(cloud: &OrganizedPointCloud) -> Option<f64> {
+    median_of(cloud, |fit| fit.residual())
+}
+
+/// The Laplacian iteration count the trained linear model predicts for a cloud whose
+/// [`estimate_noise`] is `noise`: `round(A + B · noise)` clamped to
+/// `0..=`[`MAX_AUTO_ITERATIONS`] (0: no smoothing). The constants come from
+/// `cargo run --release -p polylidar --example train_laplacian` on SynPEB-like synthetic
+/// scans with the `synpeb` preset's other parameters.
+pub fn predict_laplacian_iterations(noise: f64) -> u32 {
+    let predicted = MODEL_INTERCEPT + MODEL_SLOPE * noise;
+    if !predicted.is_finite() || predicted <= 0.0 {
+        return 0;
+    }
+    let max = f64::from(MAX_AUTO_ITERATIONS);
+    // In 0..=MAX after the clamp, so the cast is exact.
+    predicted.round().min(max) as u32
+}
+
+/// The eigenvalues λ₀ ≤ λ₁ ≤ λ₂ of one neighbourhood's covariance.
+#[derive(Clone, Copy)]
+struct Fit {
+    eigen: [f64; 3],
+}
+
+impl Fit {
+    fn residual(self) -> Option<f64> {
+        Some(self.eigen[0].max(0.0).sqrt())
+    }
+
+    fn relative(self) -> Option<f64> {
+        let spread = (self.eigen[1] * self.eigen[2]).sqrt();
+        if spread.is_nan() || spread <= 0.0 {
+            return None;
+        }
+        let spacing = (1.5 * spread).sqrt();
+        let r = self.eigen[0].max(0.0).sqrt() / spacing;
+        r.is_finite().then_some(r)
+    }
+}
+
+/// The median of `value` over the fitted sample neighbourhoods.
+fn median_of(cloud: &OrganizedPointCloud, value: impl Fn(Fit) -> Option<f64>) -> Option<f64> {
+    let (rows, cols) = (cloud.rows(), cloud.cols());
+    if rows < 3 || cols < 3 {
+        return None;
+    }
+    let inner = (rows - 2) * (cols - 2);
+    // The smallest step s with ⌈(rows−2)/s⌉·⌈(cols−2)/s⌉ ≲ TARGET_SAMPLES.
+    let step = ((inner as f64 / TARGET_SAMPLES as f64).sqrt().ceil() as usize).max(1);
+    let first = |n: usize| 1 + ((n - 2) % step) / 2;
+    let points = cloud.points();
+    let mut values = Vec::with_capacity(inner.div_ceil(step * step) + rows + cols);
+    for r in (first(rows)..rows - 1).step_by(step) {
+        for c in (first(cols)..cols - 1).step_by(step) {
+            if let Some(v) = fit(points, cols, r, c).and_then(&value) {
+                values.push(v);
+            }
+        }
+    }
+    if values.is_empty() {
+        return None;
+    }
+    let mid = values.len() / 2;
+    let (_, m, _) = values.select_nth_unstable_by(mid, f64::total_cmp);
+    Some(*m)
+}
+
+/// The covariance eigenvalues of the 3 × 3 neighbourhood of pixel `(r, c)` (not on the
+/// border), or `None` if a point is invalid.
+#[inline]
+fn fit(points: &[[f64; 3]], cols: usize, r: usize, c: usize) -> Option<Fit> {
+    let centre = points[r * cols + c];
+    let mut sum = [0.0f64; 3];
+    // xx, yy, zz, xy, xz, yz of the offsets from the centre point (for precision).
+    let mut sq = [0.0f64; 6];
+    for row in points[(r - 1) * cols..(r + 2) * cols].chunks_exact(cols) {
+        for p in &row[c - 1..c + 2] {
+            let d = [p[0] - centre[0], p[1] - centre[1], p[2] - centre[2]];
+            if !(d[0].is_finite() && d[1].is_finite() && d[2].is_finite()) {
+                return None;
+            }
+            sum[0] += d[0];
+            sum[1] += d[1];
+            sum[2] += d[2];
+            sq[0] += d[0] * d[0];
+            sq[1] += d[1] * d[1];
+            sq[2] += d[2] * d[2];
+            sq[3] += d[0] * d[1];
+            sq[4] += d[0] * d[2];
+            sq[5] += d[1] * d[2];
+        }
+    }
+    let m = sum.map(|s| s / 9.0);
+    let a = [
+        sq[0] / 9.0 - m[0] * m[0],
+        sq[1] / 9.0 - m[1] * m[1],
+        sq[2] / 9.0 - m[2] * m[2],
+        sq[3] / 9.0 - m[0] * m[1],
+        sq[4] / 9.0 - m[0] * m[2],
+        sq[5] / 9.0 - m[1] * m[2],
+    ];
+    Some(Fit {
+        eigen: symmetric_eigenvalues(a),
+    })
+}
+
+/// Eigenvalues, ascending, of the symmetric 3 × 3 matrix `[xx, yy, zz, xy, xz, yz]`
+/// (closed form through the trigonometric solution of the characteristic cubic).
+fn symmetric_eigenvalues(a: [f64; 6]) -> [f64; 3] {
+    let [xx, yy, zz, xy, xz, yz] = a;
+    let off = xy * xy + xz * xz + yz * yz;
+    let q = (xx + yy + zz) / 3.0;
+    let (dx, dy, dz) = (xx - q, yy - q, zz - q);
+    let p2 = dx * dx + dy * dy + dz * dz + 2.0 * off;
+    if p2.is_nan() || p2 <= 0.0 {
+        return [q; 3];
+    }
+    let p = (p2 / 6.0).sqrt();
+    // det((A − qI) / p) / 2, clamped into [−1, 1] against rounding.
+    let (bx, by, bz, bxy, bxz, byz) = (dx / p, dy / p, dz / p, xy / p, xz / p, yz / p);
+    let det =
+        bx * (by * bz - byz * byz) - bxy * (bxy * bz - byz * bxz) + bxz * (bxy * byz - by * bxz);
+    let half = (det / 2.0).clamp(-1.0, 1.0);
+    let phi = half.acos() / 3.0;
+    let largest = q + 2.0 * p * phi.cos();
+    let smallest = q + 2.0 * p * (phi + 2.0 * std::f64::consts::FRAC_PI_3).cos();
+    let middle = 3.0 * q - largest - smallest;
+    [smallest, middle, largest]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn eigenvalues_of_diagonal_and_rotated_matrices() {
+        let e = symmetric_eigenvalues([3.0, 1.0, 2.0, 0.0, 0.0, 0.0]);
+        for (got, want) in e.iter().zip([1.0, 2.0, 3.0]) {
+            assert!((got - want).abs() < 1e-12, "{e:?}");
+        }
+        // [[2, 1, 0], [1, 2, 0], [0, 0, 5]]: 1, 3, 5.
+        let e = symmetric_eigenvalues([2.0, 2.0, 5.0, 1.0, 0.0, 0.0]);
+        for (got, want) in e.iter().zip([1.0, 3.0, 5.0]) {
+            assert!((got - want).abs() < 1e-12, "{e:?}");
+        }
+    }
+
+    #[test]
+    fn prediction_is_clamped() {
+        assert!(predict_laplacian_iterations(1e9) <= MAX_AUTO_ITERATIONS);
+        assert_eq!(predict_laplacian_iterations(f64::NAN), 0);
+    }
+}
