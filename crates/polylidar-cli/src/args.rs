@@ -28,7 +28,7 @@ pub enum Command {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum Demo {
     /// A generated room with random polyhedra, scanned by a 500 × 500 range sensor with
-    /// 1 mdeg noise, run with the `synpeb` preset and scored against its ground truth.
+    /// 1 mdeg noise, run with the `synpeb-auto` preset and scored against its ground truth.
     Scene,
     /// 8,000 2D points sampled inside a shape with three holes (the 2D pipeline).
     Shape,
@@ -46,8 +46,9 @@ pub struct InputArgs {
     /// Run on a built-in input instead of a file (`scene` when no value is given).
     #[arg(long, value_enum, num_args = 0..=1, default_missing_value = "scene")]
     pub demo: Option<Demo>,
-    /// Start from a named parameter preset of the papers: rgbd, synpeb, rooftop, kitti,
-    /// mesh-basement, mesh-mainfloor.
+    /// Start from a named parameter preset of the papers: rgbd, synpeb (the authors' fixed
+    /// 8 Laplacian iterations), synpeb-auto (iterations from the measured noise), rooftop,
+    /// kitti, mesh-basement, mesh-mainfloor.
     #[arg(long, value_name = "NAME")]
     pub preset: Option<String>,
     /// TOML file with parameters (the field names of `polylidar::Config`); it overrides the

@@ -8,12 +8,13 @@ use crate::args::{Demo, InputArgs, ParamArgs};
 use crate::input::DEMO_SHAPE_POINTS;
 use crate::run::CliError;
 
-/// The configuration `args` asks for. Without a preset, the scene demo uses `synpeb` and
-/// the shape demo the 2D paper's α for its point count.
+/// The configuration `args` asks for. Without a preset, the scene demo uses `synpeb-auto`
+/// (Laplacian iterations chosen from the measured noise) and the shape demo the 2D
+/// paper's α for its point count.
 pub fn config(args: &InputArgs) -> Result<Config, CliError> {
     let preset = match (&args.preset, args.demo, &args.input) {
         (Some(name), _, _) => Some(name.as_str()),
-        (None, Some(Demo::Scene), None) => Some("synpeb"),
+        (None, Some(Demo::Scene), None) => Some("synpeb-auto"),
         _ => None,
     };
     let mut config = match preset {

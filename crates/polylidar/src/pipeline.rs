@@ -28,6 +28,30 @@ pub struct ExtractedPolygon {
     pub group: Option<u32>,
 }
 
+impl ExtractedPolygon {
+    /// A polygon from its index rings `(shell, holes)` into `vertices`.
+    pub(crate) fn new(
+        vertices: &[[f64; 3]],
+        (shell, holes): (Vec<u32>, Vec<Vec<u32>>),
+        plane: PolygonPlane,
+        triangles: Vec<u32>,
+        group: Option<u32>,
+    ) -> Self {
+        let coords = |ring: &[u32]| -> Vec<[f64; 3]> {
+            ring.iter().map(|&i| vertices[i as usize]).collect()
+        };
+        Self {
+            shell_points: coords(&shell),
+            hole_points: holes.iter().map(|h| coords(h)).collect(),
+            shell,
+            holes,
+            plane,
+            triangles,
+            group,
+        }
+    }
+}
+
 /// The geometric plane of a polygon's triangles: `normal · x + offset = 0`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PolygonPlane {
@@ -183,9 +207,8 @@ impl Polylidar {
             if alpha > 0.0 {
                 // The α-complex is built directly (in parallel strips): the same triangles
                 // as Delaunay followed by the α test, without materialising the rest.
-                let (mesh, report) = timings.time("mesh", || {
-                    HalfEdgeMesh::alpha_complex_2d(points, alpha)
-                })?;
+                let (mesh, report) =
+                    timings.time("mesh", || HalfEdgeMesh::alpha_complex_2d(points, alpha))?;
                 let counts = Counts {
                     points: points.len(),
                     duplicate_points: report.duplicate_points,
@@ -295,21 +318,15 @@ impl Polylidar {
                             .into_iter()
                             .filter(|h| h.len() >= config.min_hole_vertices)
                             .collect();
-                        let coords = |ring: &[u32]| -> Vec<[f64; 3]> {
-                            ring.iter().map(|&i| vertices[i as usize]).collect()
-                        };
-                        Ok((
-                            ExtractedPolygon {
-                                shell_points: coords(&polygon.shell),
-                                hole_points: holes.iter().map(|h| coords(h)).collect(),
-                                shell: polygon.shell,
-                                holes,
-                                plane: PolygonPlane::of(&mesh, triangles),
-                                triangles: triangles.to_vec(),
-                                group: None,
-                            },
-                            before,
-                        ))
+                        let plane = PolygonPlane::of(&mesh, triangles);
+                        let polygon = ExtractedPolygon::new(
+                            vertices,
+                            (polygon.shell, holes),
+                            plane,
+                            triangles.to_vec(),
+                            None,
+                        );
+                        Ok((polygon, before))
                     })
                     .collect()
             });
@@ -320,6 +337,17 @@ impl Polylidar {
             counts.holes_too_small += holes_before - polygon.holes.len();
             polygons.push(polygon);
         }
+        self.finish(mesh, polygons, counts, timings)
+    }
+
+    /// The extraction of `polygons` found on `mesh`, post-processed as configured.
+    pub(crate) fn finish(
+        &self,
+        mesh: HalfEdgeMesh,
+        polygons: Vec<ExtractedPolygon>,
+        mut counts: Counts,
+        timings: Timings,
+    ) -> Result<Extraction, PolylidarError> {
         counts.polygons = polygons.len();
         let mut extraction = Extraction {
             mesh,

@@ -10,7 +10,9 @@ use polypost::{Plane, Polygon3, PostProcessor, PostprocessConfig};
 
 use crate::config::{LaplacianIterations, SmoothingBackend};
 use crate::pipeline::PolygonPlane;
-use crate::{Counts, Diagnostics, ExtractedPolygon, Extraction, Polylidar, PolylidarError, PostprocessedPolygon, Timings};
+use crate::{
+    Counts, ExtractedPolygon, Extraction, Polylidar, PolylidarError, PostprocessedPolygon, Timings,
+};
 
 impl Polylidar {
     /// Planes and polygons of an organized point cloud (a range image or RGBD frame):
@@ -21,7 +23,10 @@ impl Polylidar {
     /// # Errors
     /// Any stage's error: smoothing options or GPU, meshing (no valid triangle),
     /// FastGA options, segmentation, post-processing.
-    pub fn extract_organized(&self, cloud: &OrganizedPointCloud) -> Result<Extraction, PolylidarError> {
+    pub fn extract_organized(
+        &self,
+        cloud: &OrganizedPointCloud,
+    ) -> Result<Extraction, PolylidarError> {
         self.install(|| {
             let config = self.config();
             let mut timings = Timings::default();
@@ -58,7 +63,9 @@ impl Polylidar {
                 }
                 None => cloud,
             };
-            let mut opc = timings.time("mesh", || cloud.mesh(&OpcMeshOptions::new().with_compute_normals(true)))?;
+            let mut opc = timings.time("mesh", || {
+                cloud.mesh(&OpcMeshOptions::new().with_compute_normals(true))
+            })?;
             if let Some(b) = &config.bilateral {
                 let options = BilateralOptions::new()
                     .with_kernel(b.kernel)
@@ -86,7 +93,11 @@ impl Polylidar {
     /// # Errors
     /// As [`Self::extract_organized`], plus [`PolylidarError::Mesh`] for bad triangles
     /// (out-of-range index, NaN vertex, degenerate triangle).
-    pub fn extract_mesh(&self, vertices: Vec<[f64; 3]>, triangles: Vec<[u32; 3]>) -> Result<Extraction, PolylidarError> {
+    pub fn extract_mesh(
+        &self,
+        vertices: Vec<[f64; 3]>,
+        triangles: Vec<[u32; 3]>,
+    ) -> Result<Extraction, PolylidarError> {
         self.install(|| {
             let mut timings = Timings::default();
             let points = vertices.len();
@@ -144,7 +155,9 @@ impl Polylidar {
             .with_z_thresh(config.z_thresh)
             .with_min_triangles(config.min_triangles)
             .with_min_hole_vertices(config.min_hole_vertices);
-        let found = timings.time("planes_polygons", || planeseg::segment(&mesh, &dominant, &segmentation))?;
+        let found = timings.time("planes_polygons", || {
+            planeseg::segment(&mesh, &dominant, &segmentation)
+        })?;
         let c = found.counts;
         counts.dropped_lmax = c.groups.dropped_lmax;
         counts.dropped_normal = c.groups.dropped_normal;
@@ -154,29 +167,16 @@ impl Polylidar {
         counts.holes = c.holes;
         counts.holes_too_small = c.holes_too_small;
         let vertices = mesh.vertices();
-        let coords = |ring: &[u32]| -> Vec<[f64; 3]> { ring.iter().map(|&i| vertices[i as usize]).collect() };
         let polygons: Vec<ExtractedPolygon> = found
             .segments
             .into_iter()
-            .map(|s| ExtractedPolygon {
-                shell_points: coords(&s.polygon.shell),
-                hole_points: s.polygon.holes.iter().map(|h| coords(h)).collect(),
-                shell: s.polygon.shell,
-                holes: s.polygon.holes,
-                plane: PolygonPlane::new(s.normal, s.centroid),
-                group: Some(s.group),
-                triangles: s.triangles,
+            .map(|s| {
+                let plane = PolygonPlane::new(s.normal, s.centroid);
+                let rings = (s.polygon.shell, s.polygon.holes);
+                ExtractedPolygon::new(vertices, rings, plane, s.triangles, Some(s.group))
             })
             .collect();
-        counts.polygons = polygons.len();
-        let mut extraction = Extraction {
-            mesh,
-            polygons,
-            postprocessed: Vec::new(),
-            diagnostics: Diagnostics { counts, timings },
-        };
-        self.postprocess(&mut extraction)?;
-        Ok(extraction)
+        self.finish(mesh, polygons, counts, timings)
     }
 
     /// Applies the configured post-processing to `extraction.polygons`, if any.
@@ -230,7 +230,10 @@ fn backend(b: SmoothingBackend) -> Backend {
 
 /// Dominant normals of the mesh's triangle normals; the sample fraction is raised so that
 /// at least `min_samples` normals are integrated.
-fn detect_normals(config: &crate::Config, mesh: &HalfEdgeMesh) -> Result<Vec<[f64; 3]>, PolylidarError> {
+fn detect_normals(
+    config: &crate::Config,
+    mesh: &HalfEdgeMesh,
+) -> Result<Vec<[f64; 3]>, PolylidarError> {
     let f = config.fastga;
     let normals = mesh.triangle_normals().unwrap_or(&[]);
     if normals.is_empty() {

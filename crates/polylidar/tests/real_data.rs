@@ -30,7 +30,10 @@ fn check_planarity(extraction: &Extraction, tolerance: f64) {
             .iter()
             .map(|q| (n[0] * q[0] + n[1] * q[1] + n[2] * q[2] + p.plane.offset).abs())
             .fold(0.0, f64::max);
-        assert!(worst < tolerance, "polygon {i}: a shell point is {worst:.3} m off its plane");
+        assert!(
+            worst < tolerance,
+            "polygon {i}: a shell point is {worst:.3} m off its plane"
+        );
     }
 }
 
@@ -42,21 +45,35 @@ fn synpeb_scans_give_dozens_of_planes() {
         let c = &extraction.diagnostics.counts;
         eprintln!("{rel}: {c:?}");
         // The original reports 47 planes on pc_01.
-        assert!((20..=90).contains(&c.polygons), "{rel}: {} polygons", c.polygons);
+        assert!(
+            (20..=90).contains(&c.polygons),
+            "{rel}: {} polygons",
+            c.polygons
+        );
         assert!(c.dominant_normals >= 3);
         check_planarity(&extraction, 0.25);
         // Planes are large: min_triangles 1000.
-        assert!(extraction.polygons.iter().all(|p| p.triangles.len() >= 1000));
+        assert!(
+            extraction
+                .polygons
+                .iter()
+                .all(|p| p.triangles.len() >= 1000)
+        );
     }
 }
 
 #[test]
 fn realsense_frame_with_rgbd_preset_gives_valid_postprocessed_polygons() {
-    let Some(cloud) = organized("realsense/rgbd_opc.npy") else { return };
+    let Some(cloud) = organized("realsense/rgbd_opc.npy") else {
+        return;
+    };
     let extraction = run(&cloud, "rgbd");
     let c = &extraction.diagnostics.counts;
     eprintln!("rgbd_opc: {c:?}");
-    assert!(c.polygons >= 1, "a RealSense frame of a floor has at least one plane");
+    assert!(
+        c.polygons >= 1,
+        "a RealSense frame of a floor has at least one plane"
+    );
     assert_eq!(c.postprocessed_polygons, extraction.postprocessed.len());
     check_planarity(&extraction, 0.2);
     // Post-processed polygons stay on their source plane.

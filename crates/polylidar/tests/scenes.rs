@@ -2,8 +2,8 @@
 //! of the same scenes, recovered with the right normals, counts and holes.
 
 use polylidar::{
-    BilateralConfig, Config, FastGaSection, Extraction, LaplacianConfig, OrganizedPointCloud, Polylidar,
-    PolylidarError,
+    BilateralConfig, Config, Extraction, FastGaSection, LaplacianConfig, OrganizedPointCloud,
+    Polylidar, PolylidarError,
 };
 use synthscan::{
     FLOOR_LABEL, Noise, PinholeCamera, Pose, RampsConfig, RoomConfig, ScanResult, Scene,
@@ -62,9 +62,23 @@ fn majorities(items: Vec<Vec<usize>>, truth: &[i32]) -> Vec<(i32, f64)> {
 fn point_majorities(extraction: &Extraction, truth: &[i32]) -> Vec<(i32, f64)> {
     let labels = extraction.point_labels();
     let items = (0..extraction.polygons.len())
-        .map(|p| (0..labels.len()).filter(|&v| labels[v] == p as i32).collect())
+        .map(|p| {
+            (0..labels.len())
+                .filter(|&v| labels[v] == p as i32)
+                .collect()
+        })
         .collect();
     majorities(items, truth)
+}
+
+/// Runs the organized pipeline on a scan; the majority label of each polygon's points.
+fn extract_scan(scan: &ScanResult, config: Config) -> (Extraction, Vec<(i32, f64)>) {
+    let extraction = Polylidar::new(config)
+        .expect("config")
+        .extract_organized(&cloud(scan))
+        .expect("extraction");
+    let majorities = point_majorities(&extraction, &scan.labels);
+    (extraction, majorities)
 }
 
 /// Majority labels of each polygon's triangles (mesh input, one label per triangle).
@@ -101,14 +115,25 @@ fn check_planes(
         assert!(angle <= degrees, "plane {label}: normal off by {angle:.3}°");
         let c = polygon.plane.centroid;
         let off: f64 = (0..3).map(|k| truth.normal[k] * c[k]).sum::<f64>() - truth.offset;
-        assert!(off.abs() < 0.01, "plane {label}: centroid {off:.4} m off the plane");
+        assert!(
+            off.abs() < 0.01,
+            "plane {label}: centroid {off:.4} m off the plane"
+        );
         found.push(label);
     }
     let mut unique = found.clone();
     unique.sort_unstable();
     unique.dedup();
-    let split = found.iter().filter(|&&l| Some(l) == may_split).count().saturating_sub(1);
-    assert_eq!(unique.len() + split, found.len(), "a plane was split: {found:?}");
+    let split = found
+        .iter()
+        .filter(|&&l| Some(l) == may_split)
+        .count()
+        .saturating_sub(1);
+    assert_eq!(
+        unique.len() + split,
+        found.len(),
+        "a plane was split: {found:?}"
+    );
     unique
 }
 
@@ -141,16 +166,15 @@ fn room_scan_finds_floor_with_obstacle_hole_table_and_walls() {
     let room = RoomConfig::default();
     let scene = Scene::room(&room).expect("room");
     let scan = scan(&scene, [3.0, 0.3, 2.6], [3.2, 3.0, 0.0], &Noise::none());
-    let extraction = Polylidar::new(config())
-        .expect("config")
-        .extract_organized(&cloud(&scan))
-        .expect("extraction");
-    let majorities = point_majorities(&extraction, &scan.labels);
+    let (extraction, majorities) = extract_scan(&scan, config());
     let found = check_planes(&extraction, &majorities, &scan.planes, 0.98, 1.0, None);
 
     // Every plane seen by at least 3 × min_triangles pixels is found.
     for label in visible(&scan, 450) {
-        assert!(found.contains(&label), "plane {label} missed; found {found:?}");
+        assert!(
+            found.contains(&label),
+            "plane {label} missed; found {found:?}"
+        );
     }
     // The floor: one polygon whose holes include the obstacle's footprint, while a free
     // floor spot is inside the shell and in no hole.
@@ -190,10 +214,20 @@ fn room_mesh_gives_the_same_planes_as_its_scan_without_occlusion() {
         .extract_mesh(vertices, triangles)
         .expect("extraction");
     let majorities = triangle_majorities(&extraction, &labels);
-    let found = check_planes(&extraction, &majorities, &scene.ground_truth(), 1.0, 1e-6, None);
+    let found = check_planes(
+        &extraction,
+        &majorities,
+        &scene.ground_truth(),
+        1.0,
+        1e-6,
+        None,
+    );
     // Floor, four walls, ceiling, table top and the obstacle's top are all large.
     for label in 0..=6 {
-        assert!(found.contains(&label), "plane {label} missed; found {found:?}");
+        assert!(
+            found.contains(&label),
+            "plane {label} missed; found {found:?}"
+        );
     }
     // Seen whole, the floor has one hole per leg and one for the obstacle.
     let floor = majorities
@@ -211,17 +245,17 @@ fn stairs_scan_finds_every_tread_and_riser() {
     let scene = Scene::stairs(&StairsConfig::default()).expect("stairs");
     // From the front and above, looking up the stairs.
     let scan = scan(&scene, [-1.2, 0.5, 1.6], [0.8, 0.5, 0.2], &Noise::none());
-    let extraction = Polylidar::new(config().with_lmax(0.1).with_min_triangles(100))
-        .expect("config")
-        .extract_organized(&cloud(&scan))
-        .expect("extraction");
-    let majorities = point_majorities(&extraction, &scan.labels);
+    let config = config().with_lmax(0.1).with_min_triangles(100);
+    let (extraction, majorities) = extract_scan(&scan, config);
     // The treads are small and seen edge-on: a row of riser pixels just below each nosing
     // lies within a pixel of the tread's plane and joins it.
     let found = check_planes(&extraction, &majorities, &scan.planes, 0.85, 1.0, None);
     // Floor plus 4 risers and 4 treads.
     for label in 0..9 {
-        assert!(found.contains(&label), "plane {label} missed; found {found:?}");
+        assert!(
+            found.contains(&label),
+            "plane {label} missed; found {found:?}"
+        );
     }
 }
 
@@ -231,17 +265,23 @@ fn ramps_scan_finds_each_tilted_plane() {
     let scene = Scene::ramps(&ramps).expect("ramps");
     let scan = scan(&scene, [-1.5, 2.0, 2.5], [1.0, 2.0, 0.0], &Noise::none());
     // cos 8° between the floor and the 10° ramp, so the two stay apart.
-    let extraction = Polylidar::new(config().with_norm_thresh(0.99))
-        .expect("config")
-        .extract_organized(&cloud(&scan))
-        .expect("extraction");
-    let majorities = point_majorities(&extraction, &scan.labels);
+    let (extraction, majorities) = extract_scan(&scan, config().with_norm_thresh(0.99));
     // Pixels along the ramps' edges lie within a pixel of the neighbouring plane; the
     // ramps' shadows cut the floor behind them off from the floor in front.
-    let found = check_planes(&extraction, &majorities, &scan.planes, 0.9, 1.0, Some(FLOOR_LABEL));
+    let found = check_planes(
+        &extraction,
+        &majorities,
+        &scan.planes,
+        0.9,
+        1.0,
+        Some(FLOOR_LABEL),
+    );
     for (i, angle) in ramps.angles_deg.iter().enumerate() {
         let slope = 4 * i as i32 + 4;
-        assert!(found.contains(&slope), "ramp at {angle}° missed; found {found:?}");
+        assert!(
+            found.contains(&slope),
+            "ramp at {angle}° missed; found {found:?}"
+        );
     }
     assert!(found.contains(&FLOOR_LABEL));
 }
@@ -249,7 +289,12 @@ fn ramps_scan_finds_each_tilted_plane() {
 /// A noisy scan through the whole stack (Laplacian, bilateral, FastGA, planes).
 fn noisy_room(threads: usize) -> (ScanResult, Extraction) {
     let scene = Scene::room(&RoomConfig::default()).expect("room");
-    let scan = scan(&scene, [3.0, 0.3, 2.6], [3.2, 3.0, 0.0], &Noise::new(0.004, 0.0, 7));
+    let scan = scan(
+        &scene,
+        [3.0, 0.3, 2.6],
+        [3.2, 3.0, 0.0],
+        &Noise::new(0.004, 0.0, 7),
+    );
     let config = config()
         .with_z_thresh(0.05)
         .with_norm_thresh(0.95)
@@ -292,9 +337,18 @@ fn noisy_scan_with_smoothing_recovers_the_large_planes() {
         .filter(|(p, m)| angle_deg(p.plane.normal, scan.planes[m.0 as usize].normal) > 5.0)
         .map(|(p, _)| p.triangles.len())
         .sum();
-    assert!(off * 100 < total, "{off} of {total} triangles in off-normal polygons");
+    assert!(
+        off * 100 < total,
+        "{off} of {total} triangles in off-normal polygons"
+    );
     let timings = &extraction.diagnostics.timings;
-    for stage in ["laplacian", "mesh", "bilateral", "fastga", "planes_polygons"] {
+    for stage in [
+        "laplacian",
+        "mesh",
+        "bilateral",
+        "fastga",
+        "planes_polygons",
+    ] {
         assert!(timings.get(stage).is_some(), "no timing for {stage}");
     }
 }

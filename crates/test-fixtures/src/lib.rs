@@ -11,13 +11,22 @@
 
 use std::path::PathBuf;
 
-/// The `shared/fixtures` folder beside the workspace root, or the folder named by the
-/// `POLYLIDAR_FIXTURES` environment variable.
+/// The folder named by the `POLYLIDAR_FIXTURES` environment variable; else the first
+/// `shared/fixtures` found beside the current directory or one of its ancestors (cargo runs
+/// tests and benchmarks in their package's folder, inside the workspace); else the one
+/// beside the workspace this crate was compiled in.
 pub fn fixtures_dir() -> PathBuf {
     if let Some(dir) = std::env::var_os("POLYLIDAR_FIXTURES") {
         return PathBuf::from(dir);
     }
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/fixtures")
+    let found = std::env::current_dir().ok().and_then(|cwd| {
+        cwd.ancestors()
+            .map(|dir| dir.join("shared/fixtures"))
+            .find(|dir| dir.is_dir())
+    });
+    found.unwrap_or_else(|| {
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/fixtures")
+    })
 }
 
 /// Whether this process runs under CI (`CI` set to anything but `false` or `0`).
