@@ -54,6 +54,7 @@ pub fn assign_groups(
     } else {
         f64::INFINITY
     };
+    let lookup = NearestLookup::new(dominant);
     let mut groups = vec![NO_GROUP; mesh.num_triangles()];
     let counts = groups
         .par_chunks_mut(CHUNK)
@@ -68,10 +69,11 @@ pub fn assign_groups(
                     continue;
                 }
                 let (mut best, mut best_dot) = (NO_GROUP, f64::NEG_INFINITY);
-                for (j, d) in dominant.iter().enumerate() {
+                for &j in lookup.candidates(*n) {
+                    let d = dominant[j as usize];
                     let dot = n[0] * d[0] + n[1] * d[1] + n[2] * d[2];
                     if dot > best_dot {
-                        (best, best_dot) = (j as u32, dot);
+                        (best, best_dot) = (j, dot);
                     }
                 }
                 if best_dot >= config.norm_thresh {
@@ -85,6 +87,108 @@ pub fn assign_groups(
         })
         .reduce(GroupCounts::default, GroupCounts::add);
     Ok((groups, counts))
+}
+
+/// Cells per cube-face side of [`NearestLookup`].
+const CUBE_CELLS: usize = 32;
+
+/// For each cell of a cube map over the sphere, the dominant normals that can be the
+/// nearest (largest dot product) to some direction in the cell, in index order; a
+/// triangle normal then compares only those (usually one or two) instead of all.
+///
+/// Exact: a cell with centre `c` and angular radius `r` (its farthest corner) keeps
+/// normal `j` unless `angle(c, d_j) − r > min_k angle(c, d_k) + r`, in which case every
+/// direction in the cell is nearer to that `d_k` than to `d_j`. The scan over the
+/// candidates in index order then picks what a scan over all normals picks.
+struct NearestLookup {
+    /// Start of each cell's candidates in `candidates` (one more entry than cells).
+    offsets: Vec<u32>,
+    candidates: Vec<u32>,
+}
+
+impl NearestLookup {
+    fn new(dominant: &[[f64; 3]]) -> Self {
+        let n = CUBE_CELLS;
+        let mut offsets = Vec::with_capacity(6 * n * n + 1);
+        let mut candidates = Vec::new();
+        offsets.push(0);
+        let mut dots = vec![0.0; dominant.len()];
+        for face in 0..6 {
+            for i in 0..n {
+                for j in 0..n {
+                    let corner = |di: usize, dj: usize| {
+                        let u = 2.0 * (i + di) as f64 / n as f64 - 1.0;
+                        let v = 2.0 * (j + dj) as f64 / n as f64 - 1.0;
+                        unit(face_point(face, u, v))
+                    };
+                    let corners = [corner(0, 0), corner(1, 0), corner(0, 1), corner(1, 1)];
+                    let centre = unit([0, 1, 2].map(|k| corners.iter().map(|c| c[k]).sum::<f64>()));
+                    let radius = corners
+                        .iter()
+                        .map(|c| angle(centre, *c))
+                        .fold(0.0, f64::max);
+                    for (dot, d) in dots.iter_mut().zip(dominant) {
+                        *dot = centre[0] * d[0] + centre[1] * d[1] + centre[2] * d[2];
+                    }
+                    // Angles compared through their cosines: one arc cosine per cell.
+                    let nearest = dots.iter().copied().fold(-1.0, f64::max).min(1.0).acos();
+                    let limit = (nearest + 2.0 * radius + 1e-9)
+                        .min(std::f64::consts::PI)
+                        .cos();
+                    candidates.extend(
+                        (0..dominant.len() as u32).filter(|&k| dots[k as usize] >= limit - 1e-12),
+                    );
+                    offsets.push(candidates.len() as u32);
+                }
+            }
+        }
+        Self {
+            offsets,
+            candidates,
+        }
+    }
+
+    /// The candidates for direction `d` (any length; NaN gives an empty list).
+    #[inline]
+    fn candidates(&self, d: [f64; 3]) -> &[u32] {
+        let a = d.map(f64::abs);
+        let (face, m, u, v) = if a[0] >= a[1] && a[0] >= a[2] {
+            (usize::from(d[0] < 0.0), a[0], d[1], d[2])
+        } else if a[1] >= a[2] {
+            (2 + usize::from(d[1] < 0.0), a[1], d[0], d[2])
+        } else {
+            (4 + usize::from(d[2] < 0.0), a[2], d[0], d[1])
+        };
+        if m.is_nan() || m <= 0.0 {
+            return &[];
+        }
+        let n = CUBE_CELLS as f64;
+        let cell = |x: f64| (((x / m + 1.0) * 0.5 * n) as usize).min(CUBE_CELLS - 1);
+        let index = (face * CUBE_CELLS + cell(u)) * CUBE_CELLS + cell(v);
+        &self.candidates[self.offsets[index] as usize..self.offsets[index + 1] as usize]
+    }
+}
+
+/// The point of cube face `face` at face coordinates `u, v ∈ [−1, 1]`, matching
+/// [`NearestLookup::candidates`].
+fn face_point(face: usize, u: f64, v: f64) -> [f64; 3] {
+    let s = if face.is_multiple_of(2) { 1.0 } else { -1.0 };
+    match face / 2 {
+        0 => [s, u, v],
+        1 => [u, s, v],
+        _ => [u, v, s],
+    }
+}
+
+fn unit(v: [f64; 3]) -> [f64; 3] {
+    let len = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+    v.map(|c| c / len)
+}
+
+fn angle(a: [f64; 3], b: [f64; 3]) -> f64 {
+    (a[0] * b[0] + a[1] * b[1] + a[2] * b[2])
+        .clamp(-1.0, 1.0)
+        .acos()
 }
 
 fn check_dominant(dominant: &[[f64; 3]]) -> Result<(), SegmentError> {

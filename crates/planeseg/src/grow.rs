@@ -99,8 +99,12 @@ pub fn segment(
         labels,
         config,
     };
+    // Largest groups first, so that the longest task starts at once.
+    let mut by_size: Vec<usize> = (0..dominant.len()).collect();
+    by_size.sort_by_key(|&g| std::cmp::Reverse(offsets[g + 1] - offsets[g]));
     rayon::scope(|scope| {
-        for (g, normal) in dominant.iter().enumerate() {
+        for g in by_size {
+            let normal = &dominant[g];
             let bucket = &order[offsets[g]..offsets[g + 1]];
             if bucket.is_empty() {
                 continue;
@@ -113,14 +117,14 @@ pub fn segment(
                     if labels[seed as usize].load(Relaxed) != UNLABELLED {
                         continue;
                     }
-                    let triangles = grower.grow(g as u32, *normal, seed);
+                    let (triangles, sums) = grower.grow(g as u32, *normal, seed);
                     grown += 1;
                     if triangles.len() < config.min_triangles.max(1) {
                         continue;
                     }
                     let sender = sender.clone();
                     scope.spawn(move |_| {
-                        let result = grower.polygon(g as u32, seed, triangles);
+                        let result = grower.polygon(g as u32, seed, triangles, sums);
                         // The receiver outlives the scope, so sending cannot fail.
                         let _ = sender.send(Outcome::Segment(result));
                     });
@@ -179,20 +183,26 @@ struct Grower<'a> {
 }
 
 impl Grower<'_> {
-    fn centroid(&self, t: u32) -> [f64; 3] {
+    fn corners(&self, t: u32) -> [[f64; 3]; 3] {
         let v = self.mesh.vertices();
-        let [a, b, c] = self.mesh.triangles()[t as usize].map(|i| v[i as usize]);
-        [0, 1, 2].map(|k| (a[k] + b[k] + c[k]) / 3.0)
+        self.mesh.triangles()[t as usize].map(|i| v[i as usize])
     }
 
     /// Grows the segment of group `g` from `seed` (breadth first over twins), labelling
     /// its triangles with `seed`. Only this group's task touches this group's labels.
-    fn grow(&self, g: u32, normal: [f64; 3], seed: u32) -> Vec<u32> {
-        let offset = |t: u32| {
-            let c = self.centroid(t);
-            normal[0] * c[0] + normal[1] * c[1] + normal[2] * c[2]
+    /// Returns the triangles and their plane sums (accumulated while the corners are at
+    /// hand for the point-to-plane test).
+    fn grow(&self, g: u32, normal: [f64; 3], seed: u32) -> (Vec<u32>, PlaneSums) {
+        let offset = |[a, b, c]: [[f64; 3]; 3]| {
+            (0..3)
+                .map(|k| normal[k] * (a[k] + b[k] + c[k]))
+                .sum::<f64>()
+                / 3.0
         };
-        let plane = offset(seed);
+        let mut sums = PlaneSums::default();
+        let seed_corners = self.corners(seed);
+        sums.add(seed_corners);
+        let plane = offset(seed_corners);
         let z_thresh = self.config.z_thresh;
         let twins = self.mesh.halfedges();
         self.labels[seed as usize].store(seed, Relaxed);
@@ -208,15 +218,19 @@ impl Grower<'_> {
                 let n = twin / 3;
                 if self.groups[n as usize] != g
                     || self.labels[n as usize].load(Relaxed) != UNLABELLED
-                    || (z_thresh > 0.0 && (offset(n) - plane).abs() > z_thresh)
                 {
                     continue;
                 }
+                let corners = self.corners(n);
+                if z_thresh > 0.0 && (offset(corners) - plane).abs() > z_thresh {
+                    continue;
+                }
+                sums.add(corners);
                 self.labels[n as usize].store(seed, Relaxed);
                 triangles.push(n);
             }
         }
-        triangles
+        (triangles, sums)
     }
 
     /// The segment's geometric plane and polygon.
@@ -225,9 +239,10 @@ impl Grower<'_> {
         g: u32,
         seed: u32,
         triangles: Vec<u32>,
+        sums: PlaneSums,
     ) -> Result<PlanarSegment, (u32, u32, SegmentError)> {
         let v = self.mesh.vertices();
-        let (normal, centroid) = geometric_plane(self.mesh, &triangles);
+        let (normal, centroid) = sums.plane();
         let (e1, e2) = plane_axes(normal);
         let labels = self.labels;
         let mut polygon = Extractor::new()
@@ -274,22 +289,47 @@ impl Grower<'_> {
 /// ```
 pub fn geometric_plane(mesh: &HalfEdgeMesh, triangles: &[u32]) -> ([f64; 3], [f64; 3]) {
     let v = mesh.vertices();
-    let (mut sum_n, mut sum_c, mut area) = ([0.0; 3], [0.0; 3], 0.0);
+    let mut sums = PlaneSums::default();
     for &t in triangles {
-        let [a, b, c] = mesh.triangles()[t as usize].map(|i| v[i as usize]);
+        sums.add(mesh.triangles()[t as usize].map(|i| v[i as usize]));
+    }
+    sums.plane()
+}
+
+/// Running sums behind a geometric plane: area-weighted normal and centroid.
+#[derive(Debug, Clone, Copy, Default)]
+struct PlaneSums {
+    /// Sum of the triangles' cross products (twice their area times their unit normal).
+    normal: [f64; 3],
+    /// Sum of the centroids weighted by twice the area.
+    centroid: [f64; 3],
+    /// Twice the total area.
+    area: f64,
+}
+
+impl PlaneSums {
+    #[inline]
+    fn add(&mut self, [a, b, c]: [[f64; 3]; 3]) {
         let n = cross_normal(a, b, c);
         let w = dot(n, n).sqrt();
         for k in 0..3 {
-            sum_n[k] += n[k];
-            sum_c[k] += w * (a[k] + b[k] + c[k]) / 3.0;
+            self.normal[k] += n[k];
+            self.centroid[k] += w * (a[k] + b[k] + c[k]) / 3.0;
         }
-        area += w;
+        self.area += w;
     }
-    let len = dot(sum_n, sum_n).sqrt();
-    if !(len > 0.0 && area > 0.0) {
-        return ([0.0; 3], [0.0; 3]);
+
+    /// Unit normal and centroid; zeros when the triangles have no area.
+    fn plane(&self) -> ([f64; 3], [f64; 3]) {
+        let len = dot(self.normal, self.normal).sqrt();
+        if !(len > 0.0 && self.area > 0.0) {
+            return ([0.0; 3], [0.0; 3]);
+        }
+        (
+            self.normal.map(|c| c / len),
+            self.centroid.map(|c| c / self.area),
+        )
     }
-    (sum_n.map(|c| c / len), sum_c.map(|c| c / area))
 }
 
 #[inline]
