@@ -200,6 +200,18 @@ impl FastGa {
         &self.config
     }
 
+    /// Sets the fraction of the normals that the next [`detect`](Self::detect) calls
+    /// integrate, keeping the accumulator (which is what costs to build).
+    ///
+    /// # Errors
+    /// [`FastGaError`] for a fraction outside `(0, 1]`; the detector is then unchanged.
+    pub fn set_sample_fraction(&mut self, sample_fraction: f64) -> Result<(), FastGaError> {
+        let config = self.config.with_sample_fraction(sample_fraction);
+        config.validate()?;
+        self.config = config;
+        Ok(())
+    }
+
     /// The accumulator as left by the last call (for its counts or image).
     pub fn accumulator(&self) -> &GaussianAccumulator {
         &self.accumulator

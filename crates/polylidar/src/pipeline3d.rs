@@ -37,9 +37,8 @@ impl Polylidar {
                     let result = timings.time("laplacian", || {
                         let iterations = match l.iterations {
                             LaplacianIterations::Fixed(n) => n,
-                            LaplacianIterations::Auto => {
-                                crate::noise::estimate_noise(cloud).map_or(0, crate::noise::predict_laplacian_iterations)
-                            }
+                            LaplacianIterations::Auto => crate::noise::estimate_noise(cloud)
+                                .map_or(0, crate::noise::predict_laplacian_iterations),
                         };
                         if iterations == 0 {
                             return Ok((0, None));
@@ -49,7 +48,8 @@ impl Polylidar {
                             .with_lambda(l.lambda)
                             .with_iterations(iterations)
                             .with_backend(backend(l.backend));
-                        mesh_smooth_gpu::laplacian_filter(cloud, &options).map(|s| (iterations, Some(s)))
+                        mesh_smooth_gpu::laplacian_filter(cloud, &options)
+                            .map(|s| (iterations, Some(s)))
                     });
                     let (iterations, filtered) = result?;
                     laplacian_iterations = iterations;
@@ -146,7 +146,7 @@ impl Polylidar {
         counts.triangles = mesh.num_triangles();
         let dominant = match dominant {
             Some(d) => d,
-            None => timings.time("fastga", || detect_normals(config, &mesh))?,
+            None => timings.time("fastga", || self.detect_normals(&mesh))?,
         };
         counts.dominant_normals = dominant.len();
         let segmentation = SegmentationConfig::new()
@@ -228,27 +228,37 @@ fn backend(b: SmoothingBackend) -> Backend {
     }
 }
 
-/// Dominant normals of the mesh's triangle normals; the sample fraction is raised so that
-/// at least `min_samples` normals are integrated.
-fn detect_normals(
-    config: &crate::Config,
-    mesh: &HalfEdgeMesh,
-) -> Result<Vec<[f64; 3]>, PolylidarError> {
-    let f = config.fastga;
-    let normals = mesh.triangle_normals().unwrap_or(&[]);
-    if normals.is_empty() {
-        return Ok(Vec::new());
+impl Polylidar {
+    /// Dominant normals of the mesh's triangle normals, with the detector kept between
+    /// runs; the sample fraction is raised so that at least `min_samples` normals are
+    /// integrated.
+    fn detect_normals(&self, mesh: &HalfEdgeMesh) -> Result<Vec<[f64; 3]>, PolylidarError> {
+        let f = self.config().fastga;
+        let normals = mesh.triangle_normals().unwrap_or(&[]);
+        if normals.is_empty() {
+            return Ok(Vec::new());
+        }
+        let floor = f.min_samples as f64 / normals.len() as f64;
+        let fraction = f.sample_fraction.max(floor).min(1.0);
+        // A panic elsewhere while the lock was held leaves a detector that `detect` clears
+        // before use, so a poisoned lock is safe to take over.
+        let mut slot = self
+            .fastga
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        let fastga = match slot.as_mut() {
+            Some(fastga) => fastga,
+            None => slot.insert(FastGa::new(
+                FastGaConfig::default()
+                    .with_level(f.level)
+                    .with_sample_fraction(fraction)
+                    .with_value_threshold(f.value_threshold)
+                    .with_cluster_distance(f.cluster_distance)
+                    .with_min_cluster_weight(f.min_cluster_weight),
+            )?),
+        };
+        fastga.set_sample_fraction(fraction)?;
+        let found = fastga.detect(normals)?;
+        Ok(found.normals.iter().map(|d| d.normal).collect())
     }
-    let floor = f.min_samples as f64 / normals.len() as f64;
-    let fraction = f.sample_fraction.max(floor).min(1.0);
-    let mut fastga = FastGa::new(
-        FastGaConfig::default()
-            .with_level(f.level)
-            .with_sample_fraction(fraction)
-            .with_value_threshold(f.value_threshold)
-            .with_cluster_distance(f.cluster_distance)
-            .with_min_cluster_weight(f.min_cluster_weight),
-    )?;
-    let found = fastga.detect(normals)?;
-    Ok(found.normals.iter().map(|d| d.normal).collect())
 }

@@ -383,3 +383,28 @@ fn bad_3d_input_gives_errors() {
         Err(PolylidarError::Mesh(_))
     ));
 }
+
+#[test]
+fn a_reused_pipeline_gives_the_same_output_as_a_fresh_one() {
+    let scene = Scene::room(&RoomConfig::default()).expect("room");
+    let near = scan(
+        &scene,
+        [3.0, 0.3, 2.6],
+        [3.2, 3.0, 0.0],
+        &Noise::new(0.002, 0.0, 3),
+    );
+    let far = scan(
+        &scene,
+        [5.5, 4.5, 2.8],
+        [1.0, 1.0, 0.0],
+        &Noise::new(0.002, 0.0, 4),
+    );
+    let reused = Polylidar::new(config()).expect("config");
+    for s in [&near, &far, &near] {
+        let fresh = Polylidar::new(config()).expect("config");
+        let a = reused.extract_organized(&cloud(s)).expect("extraction");
+        let b = fresh.extract_organized(&cloud(s)).expect("extraction");
+        assert_eq!(a.polygons, b.polygons);
+        assert_eq!(a.diagnostics.counts, b.diagnostics.counts);
+    }
+}
