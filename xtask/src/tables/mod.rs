@@ -1,0 +1,190 @@
+//! The tables, one module each, and the index (`README.md`) that lists them.
+
+mod accuracy;
+mod fastga;
+mod pipeline;
+mod realsense;
+mod scaling;
+mod shapes2d;
+mod smoothing;
+mod synpeb_accuracy;
+mod synpeb_timing;
+
+use std::fmt::Write as _;
+
+use crate::bench::Ctx;
+use crate::error::{Result, msg};
+use crate::report::{Section, write};
+
+/// One table: its key, the other names `--only` accepts, its file and its runner.
+pub struct TableSpec {
+    /// Name for `--only`.
+    pub key: &'static str,
+    /// Other accepted names (paper table numbers).
+    pub aliases: &'static [&'static str],
+    /// Files it writes (markdown first).
+    pub files: &'static [&'static str],
+    /// Runs the table.
+    pub run: fn(&Ctx) -> Result<Section>,
+}
+
+/// Every table, in the order they run (timing tables first).
+pub const ALL: &[TableSpec] = &[
+    TableSpec {
+        key: "fastga",
+        aliases: &["2", "table2"],
+        files: &["table02_fastga.md"],
+        run: fastga::run,
+    },
+    TableSpec {
+        key: "smoothing",
+        aliases: &["12", "13", "table12", "table13"],
+        files: &["table12_13_smoothing.md"],
+        run: smoothing::run,
+    },
+    TableSpec {
+        key: "realsense",
+        aliases: &["8", "table8"],
+        files: &["table08_realsense.md"],
+        run: realsense::run,
+    },
+    TableSpec {
+        key: "shapes",
+        aliases: &["2d", "3", "4", "5", "6", "iii", "iv", "v", "vi"],
+        files: &["shapes_2d.md", "shapes_2d_time.png", "shapes_2d_error.png"],
+        run: shapes2d::run,
+    },
+    TableSpec {
+        key: "scaling",
+        aliases: &["21", "fig21"],
+        files: &["scaling_threads.md", "scaling_threads.png"],
+        run: scaling::run,
+    },
+    TableSpec {
+        key: "synpeb-timing",
+        aliases: &["11", "table11"],
+        files: &["table11_synpeb_timing.md"],
+        run: synpeb_timing::run,
+    },
+    TableSpec {
+        key: "synpeb-accuracy",
+        aliases: &["10", "table10"],
+        files: &["table10_synpeb_accuracy.md"],
+        run: synpeb_accuracy::run,
+    },
+];
+
+/// The tables `--only` names (all without it), in run order.
+///
+/// # Errors
+/// An unknown name.
+pub fn select(only: Option<&str>) -> Result<Vec<&'static TableSpec>> {
+    let Some(only) = only else {
+        return Ok(ALL.iter().collect());
+    };
+    let mut keep = Vec::new();
+    for name in only
+        .split(',')
+        .map(|s| s.trim().to_lowercase())
+        .filter(|s| !s.is_empty())
+    {
+        let name = name.trim_start_matches("table").trim().to_owned();
+        let found = ALL
+            .iter()
+            .position(|t| t.key == name || t.aliases.contains(&name.as_str()))
+            .ok_or_else(|| {
+                msg(format!(
+                    "--only: unknown table `{name}`; use {}",
+                    ALL.iter().map(|t| t.key).collect::<Vec<_>>().join(", ")
+                ))
+            })?;
+        keep.push(found);
+    }
+    keep.sort_unstable();
+    keep.dedup();
+    Ok(keep.into_iter().map(|k| &ALL[k]).collect())
+}
+
+/// Writes `README.md` in the output folder: the machine, how to reproduce, and the
+/// tables and charts present there.
+///
+/// # Errors
+/// File-system errors.
+pub fn write_index(ctx: &Ctx) -> Result<()> {
+    let mut s = String::new();
+    let m = &ctx.machine;
+    let _ = writeln!(s, "# Benchmarks\n");
+    let _ = writeln!(
+        s,
+        "Timing and accuracy tables in the style of the Polylidar3D paper (Castagno & Atkins, \
+         2020) and the Polylidar 2D paper, measured on polylidar-rs by `cargo xtask bench`. \
+         Every table names the machine, thread counts, run counts and the load average while \
+         it ran, and puts the paper's figure beside ours for context.\n"
+    );
+    let _ = writeln!(s, "## Machine of the last run\n");
+    let _ = writeln!(s, "* CPU: {}", m.cpu);
+    let _ = writeln!(s, "* cores (available parallelism): {}", m.cores);
+    if let Some(g) = m.memory_gib {
+        let _ = writeln!(s, "* memory: {g:.0} GiB");
+    }
+    let _ = writeln!(s, "* OS: {}", m.os);
+    let _ = writeln!(s, "* compiler: {} (release profile)", m.rustc);
+    let _ = writeln!(
+        s,
+        "* date: {}{}\n",
+        m.date,
+        if ctx.quick { " (`--quick` run)" } else { "" }
+    );
+    let _ = writeln!(
+        s,
+        "The paper's figures come from different hardware (AMD Ryzen 9 3900X, 12 cores, \
+         4.2 GHz; NVIDIA RTX 2070 Super) and from C++/Python code; compare trends and ratios, \
+         not absolute times. On a shared machine whose load average exceeds 1 the timings are \
+         noisy; each table says so in its header when that happened.\n"
+    );
+    let _ = writeln!(s, "## Results\n");
+    for spec in ALL {
+        let mut any = false;
+        for file in spec.files {
+            let path = ctx.out.join(file);
+            if !path.is_file() {
+                continue;
+            }
+            any = true;
+            if file.ends_with(".md") {
+                let title = std::fs::read_to_string(&path)
+                    .ok()
+                    .and_then(|t| {
+                        t.lines()
+                            .next()
+                            .map(|l| l.trim_start_matches('#').trim().to_owned())
+                    })
+                    .unwrap_or_else(|| (*file).to_owned());
+                let _ = writeln!(s, "* [{title}]({file})");
+            } else {
+                let _ = writeln!(s, "  * chart: [{file}]({file})");
+            }
+        }
+        if !any {
+            let _ = writeln!(
+                s,
+                "* `{}`: not generated yet (`cargo xtask bench --only {}`)",
+                spec.key, spec.key
+            );
+        }
+    }
+    let _ = writeln!(
+        s,
+        "\n## Reproduce\n\n```sh\ncargo xtask bench            # everything: about 4 minutes \
+         on 2 cores\ncargo xtask bench --quick    # fewer runs and sizes: under a minute\n\
+         cargo xtask bench --only fastga,smoothing --threads 1,2,4\ncargo run -p xtask \
+         --release --features gpu -- bench   # adds GPU smoothing rows where an adapter \
+         exists\n```\n\nThe committed results were made with `--features gpu`; the only adapter \
+         on the machine is Mesa's software Vulkan driver (lavapipe), so the GPU rows are \
+         labelled as software rendering on the CPU.\n\n\
+         The real data come from `../shared/fixtures` next to the workspace (`--fixtures DIR` \
+         to point elsewhere); tables whose fixtures are missing say so. The synthetic \
+         SynPEB-like suite is generated by the `synthscan` crate and needs no files."
+    );
+    write(&ctx.out.join("README.md"), &s)
+}
