@@ -34,6 +34,7 @@ mod noise;
 mod pipeline;
 mod pipeline3d;
 mod regions;
+mod reuse;
 pub mod shapes;
 
 pub use config::{

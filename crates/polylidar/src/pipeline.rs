@@ -164,9 +164,10 @@ impl Extraction {
 pub struct Polylidar {
     config: Config,
     pool: Option<rayon::ThreadPool>,
-    /// The FastGA detector, built on the first 3D run and kept: building its accumulator
-    /// costs more than integrating a frame's normals (≈ 12 ms at level 5).
-    pub(crate) fastga: std::sync::Mutex<Option<fastga::FastGa>>,
+    /// Kept between 3D runs: the FastGA detector (building its accumulator costs more
+    /// than integrating a frame's normals, ≈ 12 ms at level 5) and the smoothers' buffers.
+    /// Runs on one `Polylidar` from several threads take turns on these stages.
+    pub(crate) reuse: std::sync::Mutex<crate::reuse::Reusable>,
 }
 
 impl Polylidar {
@@ -192,7 +193,7 @@ impl Polylidar {
         Ok(Self {
             config,
             pool,
-            fastga: std::sync::Mutex::new(None),
+            reuse: std::sync::Mutex::default(),
         })
     }
 

@@ -10,6 +10,7 @@ use polypost::{Plane, Polygon3, PostProcessor, PostprocessConfig};
 
 use crate::config::{LaplacianIterations, SmoothingBackend};
 use crate::pipeline::PolygonPlane;
+use crate::reuse;
 use crate::{
     Counts, ExtractedPolygon, Extraction, Polylidar, PolylidarError, PostprocessedPolygon, Timings,
 };
@@ -30,6 +31,7 @@ impl Polylidar {
         self.install(|| {
             let config = self.config();
             let mut timings = Timings::default();
+            let mut reuse = reuse::lock(&self.reuse);
             let smoothed;
             let mut laplacian_iterations = 0;
             let cloud = match &config.laplacian {
@@ -48,7 +50,8 @@ impl Polylidar {
                             .with_lambda(l.lambda)
                             .with_iterations(iterations)
                             .with_backend(backend(l.backend));
-                        mesh_smooth_gpu::laplacian_filter(cloud, &options)
+                        reuse
+                            .laplacian(cloud, &options)
                             .map(|s| (iterations, Some(s)))
                     });
                     let (iterations, filtered) = result?;
@@ -73,10 +76,10 @@ impl Polylidar {
                     .with_sigma_angle(b.sigma_angle)
                     .with_iterations(b.iterations)
                     .with_backend(backend(b.backend));
-                timings.time("bilateral", || {
-                    mesh_smooth_gpu::bilateral_filter(cloud, &options)?.apply_to_opc_mesh(&mut opc)
-                })?;
+                timings.time("bilateral", || reuse.bilateral(cloud, &options, &mut opc))?;
             }
+            // `extract_planes` takes the lock again for FastGA.
+            drop(reuse);
             let counts = Counts {
                 points: cloud.num_valid(),
                 laplacian_iterations,
@@ -240,15 +243,10 @@ impl Polylidar {
         }
         let floor = f.min_samples as f64 / normals.len() as f64;
         let fraction = f.sample_fraction.max(floor).min(1.0);
-        // A panic elsewhere while the lock was held leaves a detector that `detect` clears
-        // before use, so a poisoned lock is safe to take over.
-        let mut slot = self
-            .fastga
-            .lock()
-            .unwrap_or_else(std::sync::PoisonError::into_inner);
-        let fastga = match slot.as_mut() {
+        let mut reuse = reuse::lock(&self.reuse);
+        let fastga = match reuse.fastga.as_mut() {
             Some(fastga) => fastga,
-            None => slot.insert(FastGa::new(
+            None => reuse.fastga.insert(FastGa::new(
                 FastGaConfig::default()
                     .with_level(f.level)
                     .with_sample_fraction(fraction)

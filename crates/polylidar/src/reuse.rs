@@ -1,0 +1,76 @@
+//! What one [`Polylidar`](crate::Polylidar) keeps between runs: the parts of the 3D
+//! pipeline that cost more to build than to use (the FastGA accumulator, the smoothers'
+//! buffers).
+
+use std::sync::{Mutex, MutexGuard, PoisonError};
+
+use fastga::FastGa;
+use mesh_smooth_gpu::{
+    Backend, BilateralOptions, CpuSmoother, LaplacianOptions, SlotNormals, SmoothError,
+};
+use opc_mesh::{OpcMesh, OrganizedPointCloud};
+
+/// Detectors and buffers reused across runs. Every use starts from a clean state (the
+/// accumulator is cleared, buffers are overwritten), so results do not depend on what ran
+/// before.
+#[derive(Debug, Default)]
+pub(crate) struct Reusable {
+    /// The FastGA detector, built on the first 3D run.
+    pub fastga: Option<FastGa>,
+    /// CPU smoothers: one thread, rayon.
+    smoothers: [Option<CpuSmoother>; 2],
+    /// The bilateral filter's output.
+    normals: SlotNormals,
+}
+
+/// The shared slot; a run that panicked while holding it left nothing that the next
+/// run's clean start does not overwrite, so a poisoned lock is taken over.
+pub(crate) fn lock(slot: &Mutex<Reusable>) -> MutexGuard<'_, Reusable> {
+    slot.lock().unwrap_or_else(PoisonError::into_inner)
+}
+
+impl Reusable {
+    fn cpu(&mut self, backend: Backend) -> Result<&mut CpuSmoother, SmoothError> {
+        let slot = &mut self.smoothers[usize::from(backend == Backend::CpuParallel)];
+        match slot {
+            Some(smoother) => Ok(smoother),
+            None => Ok(slot.insert(CpuSmoother::new(backend)?)),
+        }
+    }
+
+    /// The Laplacian filter of `cloud`, on a kept smoother for the CPU backends.
+    pub fn laplacian(
+        &mut self,
+        cloud: &OrganizedPointCloud,
+        options: &LaplacianOptions,
+    ) -> Result<OrganizedPointCloud, SmoothError> {
+        match options.backend {
+            Backend::Gpu => mesh_smooth_gpu::laplacian_filter(cloud, options),
+            cpu => self.cpu(cpu)?.laplacian(cloud, options),
+        }
+    }
+
+    /// The bilateral normal filter of `cloud`'s implicit mesh, written into `opc`'s
+    /// triangle normals.
+    pub fn bilateral(
+        &mut self,
+        cloud: &OrganizedPointCloud,
+        options: &BilateralOptions,
+        opc: &mut OpcMesh,
+    ) -> Result<(), SmoothError> {
+        match options.backend {
+            Backend::Gpu => {
+                mesh_smooth_gpu::bilateral_filter(cloud, options)?.apply_to_opc_mesh(opc)
+            }
+            cpu => {
+                let mut normals = std::mem::take(&mut self.normals);
+                let result = self
+                    .cpu(cpu)?
+                    .bilateral_into(cloud, options, &mut normals)
+                    .and_then(|()| normals.apply_to_opc_mesh(opc));
+                self.normals = normals;
+                result
+            }
+        }
+    }
+}
