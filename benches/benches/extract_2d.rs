@@ -30,14 +30,17 @@ fn bench(c: &mut Criterion) {
     let points = sample_uniform(&truth, N, 42).expect("shape has area");
     let alpha = paper_alpha(&truth, N);
 
-    for threads in [1, 2] {
-        let polylidar = Polylidar::new(
+    let pipeline = |threads| {
+        Polylidar::new(
             Config::new()
                 .with_alpha(alpha)
                 .with_min_triangles(1)
                 .with_threads(threads),
         )
-        .expect("valid config");
+        .expect("valid config")
+    };
+    for threads in [1, 2] {
+        let polylidar = pipeline(threads);
         let runs: Vec<_> = (0..31)
             .map(|_| polylidar.extract_2d(&points).expect("extraction"))
             .collect();
@@ -73,13 +76,7 @@ fn bench(c: &mut Criterion) {
         .sample_size(30)
         .measurement_time(Duration::from_secs(8));
     for threads in [1, 2] {
-        let polylidar = Polylidar::new(
-            Config::new()
-                .with_alpha(alpha)
-                .with_min_triangles(1)
-                .with_threads(threads),
-        )
-        .expect("valid config");
+        let polylidar = pipeline(threads);
         group.bench_function(format!("pipeline_{threads}_threads"), |b| {
             b.iter(|| polylidar.extract_2d(&points).expect("extraction"))
         });

@@ -2,8 +2,8 @@
 //! of the same scenes, recovered with the right normals, counts and holes.
 
 use polylidar::{
-    BilateralConfig, Config, Extraction, FastGaSection, LaplacianConfig, OrganizedPointCloud,
-    Polylidar, PolylidarError,
+    BilateralConfig, Config, ExtractedPolygon, Extraction, FastGaSection, LaplacianConfig,
+    OrganizedPointCloud, Polylidar, PolylidarError,
 };
 use synthscan::{
     FLOOR_LABEL, Noise, PinholeCamera, Pose, RampsConfig, RoomConfig, ScanResult, Scene,
@@ -137,6 +137,26 @@ fn check_planes(
     unique
 }
 
+/// The polygon whose points are mostly of plane `label`.
+fn polygon_of<'a>(
+    extraction: &'a Extraction,
+    majorities: &[(i32, f64)],
+    label: i32,
+) -> &'a ExtractedPolygon {
+    let index = majorities.iter().position(|&(l, _)| l == label);
+    &extraction.polygons[index.unwrap_or_else(|| panic!("plane {label} not found"))]
+}
+
+/// Every label of `wanted` is among the `found` ones.
+fn assert_found(found: &[i32], wanted: impl IntoIterator<Item = i32>) {
+    for label in wanted {
+        assert!(
+            found.contains(&label),
+            "plane {label} missed; found {found:?}"
+        );
+    }
+}
+
 /// Ray-casting point-in-ring test in xy.
 fn inside_xy(ring: &[[f64; 3]], p: [f64; 2]) -> bool {
     let mut inside = false;
@@ -170,19 +190,10 @@ fn room_scan_finds_floor_with_obstacle_hole_table_and_walls() {
     let found = check_planes(&extraction, &majorities, &scan.planes, 0.98, 1.0, None);
 
     // Every plane seen by at least 3 × min_triangles pixels is found.
-    for label in visible(&scan, 450) {
-        assert!(
-            found.contains(&label),
-            "plane {label} missed; found {found:?}"
-        );
-    }
+    assert_found(&found, visible(&scan, 450));
     // The floor: one polygon whose holes include the obstacle's footprint, while a free
     // floor spot is inside the shell and in no hole.
-    let floor = majorities
-        .iter()
-        .position(|&(l, _)| l == FLOOR_LABEL)
-        .map(|i| &extraction.polygons[i])
-        .expect("floor found");
+    let floor = polygon_of(&extraction, &majorities, FLOOR_LABEL);
     let obstacle = room.obstacle.expect("default room has an obstacle").center;
     assert!(inside_xy(&floor.shell_points, obstacle));
     assert!(floor.hole_points.iter().any(|h| inside_xy(h, obstacle)));
@@ -223,18 +234,9 @@ fn room_mesh_gives_the_same_planes_as_its_scan_without_occlusion() {
         None,
     );
     // Floor, four walls, ceiling, table top and the obstacle's top are all large.
-    for label in 0..=6 {
-        assert!(
-            found.contains(&label),
-            "plane {label} missed; found {found:?}"
-        );
-    }
+    assert_found(&found, 0..=6);
     // Seen whole, the floor has one hole per leg and one for the obstacle.
-    let floor = majorities
-        .iter()
-        .position(|&(l, _)| l == FLOOR_LABEL)
-        .map(|i| &extraction.polygons[i])
-        .expect("floor found");
+    let floor = polygon_of(&extraction, &majorities, FLOOR_LABEL);
     assert_eq!(floor.holes.len(), 5);
     let obstacle = room.obstacle.expect("obstacle").center;
     assert!(floor.hole_points.iter().any(|h| inside_xy(h, obstacle)));
@@ -251,12 +253,7 @@ fn stairs_scan_finds_every_tread_and_riser() {
     // lies within a pixel of the tread's plane and joins it.
     let found = check_planes(&extraction, &majorities, &scan.planes, 0.85, 1.0, None);
     // Floor plus 4 risers and 4 treads.
-    for label in 0..9 {
-        assert!(
-            found.contains(&label),
-            "plane {label} missed; found {found:?}"
-        );
-    }
+    assert_found(&found, 0..9);
 }
 
 #[test]
