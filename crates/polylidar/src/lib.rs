@@ -1,15 +1,21 @@
-//! Polylidar in Rust: planes and non-convex polygons with holes from 2D point sets and
-//! point clouds.
+//! Polylidar in Rust: planes and non-convex polygons with holes from 2D point sets, point
+//! clouds, range images and meshes.
 //!
-//! This facade chains the stages of the workspace. Today it runs the Polylidar pipeline
-//! of the 2D paper on
+//! This facade chains the stages of the workspace into one [`Polylidar`] pipeline, built
+//! from a [`Config`] (serde / TOML, or a named [`Config::preset`] from the papers), with
+//! one entry point per input kind:
 //!
-//! * 2D point sets ([`Polylidar::extract_2d`]): Delaunay triangulation, triangle filtering
-//!   by α (circumradius) or `lmax` (longest edge), region growing over twin half-edges,
-//!   boundary following into polygons with holes;
+//! * 2D point sets ([`Polylidar::extract_2d`]): the α-complex of the Delaunay triangulation
+//!   (or `lmax`, longest edge), region growing over twin half-edges, boundary following
+//!   into polygons with holes (the 2D paper);
 //! * 3D clouds seen from one direction ([`Polylidar::extract_25d`], "2.5D"): the same on
 //!   the cloud triangulated along [`Config::up`], with triangles kept only where their
-//!   normal is within `norm_thresh` of `up` — flat roofs and floors from airborne LiDAR.
+//!   normal is within `norm_thresh` of `up` — flat roofs and floors from airborne LiDAR;
+//! * organized clouds — range images, RGBD frames ([`Polylidar::extract_organized`]) — and
+//!   user meshes ([`Polylidar::extract_mesh`], [`Polylidar::extract_planes_from_mesh`]):
+//!   Polylidar3D — optional Laplacian and bilateral smoothing, FastGA dominant normals,
+//!   parallel planar segmentation with overlapped polygon extraction, each polygon with
+//!   its plane, and optional post-processing into valid simplified polygons.
 //!
 //! Each result carries per-stage [`Counts`] and [`Timings`] so that an empty result can be
 //! explained.

@@ -144,7 +144,12 @@ impl Extraction {
     }
 }
 
-/// The Polylidar pipeline for 2D point sets and 2.5D clouds.
+/// The Polylidar pipeline for every input kind: 2D point sets, 2.5D clouds, organized
+/// clouds and meshes.
+///
+/// Build it once and reuse it frame after frame: it keeps its thread pool, the FastGA
+/// accumulator and the smoothers' buffers between runs (results never depend on earlier
+/// runs). It is `Sync`; runs from several threads at once take turns on those stages.
 ///
 /// ```
 /// use polylidar::{Config, Polylidar};
