@@ -405,3 +405,26 @@ fn a_reused_pipeline_gives_the_same_output_as_a_fresh_one() {
         assert_eq!(a.diagnostics.counts, b.diagnostics.counts);
     }
 }
+
+#[test]
+fn a_pipeline_can_be_shared_between_threads() {
+    fn shareable<T: Send + Sync>() {}
+    shareable::<Polylidar>();
+    let scene = Scene::room(&RoomConfig::default()).expect("room");
+    let room = cloud(&scan(
+        &scene,
+        [3.0, 0.3, 2.6],
+        [3.2, 3.0, 0.0],
+        &Noise::none(),
+    ));
+    let shared = Polylidar::new(config()).expect("config");
+    let alone = shared.extract_organized(&room).expect("extraction");
+    std::thread::scope(|s| {
+        let runs: Vec<_> = (0..3)
+            .map(|_| s.spawn(|| shared.extract_organized(&room).expect("extraction")))
+            .collect();
+        for run in runs {
+            assert_eq!(run.join().expect("no panic").polygons, alone.polygons);
+        }
+    });
+}
