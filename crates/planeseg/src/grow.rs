@@ -9,8 +9,11 @@ use polyextract::{Extractor, Polygon};
 use crate::groups::{GroupCounts, NO_GROUP, assign_groups};
 use crate::{SegmentError, SegmentationConfig};
 
-/// Label of a triangle in no segment.
-const UNLABELLED: u32 = u32::MAX;
+/// The state of a grouped triangle not yet in a segment: `FREE - g` for group `g`. Once in
+/// a segment the state is the segment's seed, a triangle index; triangle indices stay below
+/// `u32::MAX / 3` (half-edge indices are `u32`), far from these values. One word per
+/// triangle answers "is it free and in my group" with a single load.
+const FREE: u32 = u32::MAX - 1;
 
 /// A planar segment and its polygon.
 #[derive(Debug, Clone, PartialEq)]
@@ -88,14 +91,14 @@ pub fn segment(
         }
     }
 
-    let labels: Vec<AtomicU32> = (0..groups.len())
-        .map(|_| AtomicU32::new(UNLABELLED))
+    let labels: Vec<AtomicU32> = groups
+        .iter()
+        .map(|&g| AtomicU32::new(if g == NO_GROUP { NO_GROUP } else { FREE - g }))
         .collect();
     let labels = labels.as_slice();
     let (sender, receiver) = mpsc::channel();
     let grower = Grower {
         mesh,
-        groups: &groups,
         labels,
         config,
     };
@@ -114,7 +117,7 @@ pub fn segment(
             scope.spawn(move |scope| {
                 let mut grown = 0;
                 for &seed in bucket {
-                    if labels[seed as usize].load(Relaxed) != UNLABELLED {
+                    if labels[seed as usize].load(Relaxed) != FREE - g as u32 {
                         continue;
                     }
                     let (triangles, sums) = grower.grow(g as u32, *normal, seed);
@@ -177,7 +180,8 @@ enum Outcome {
 /// Shared, read-mostly state of the growing tasks.
 struct Grower<'a> {
     mesh: &'a HalfEdgeMesh,
-    groups: &'a [u32],
+    /// Per triangle: `FREE - g` while free in group `g`, the seed once in a segment,
+    /// [`NO_GROUP`] if in no group.
     labels: &'a [AtomicU32],
     config: &'a SegmentationConfig,
 }
@@ -205,6 +209,7 @@ impl Grower<'_> {
         let plane = offset(seed_corners);
         let z_thresh = self.config.z_thresh;
         let twins = self.mesh.halfedges();
+        let free = FREE - g;
         self.labels[seed as usize].store(seed, Relaxed);
         let mut triangles = vec![seed];
         let mut next = 0;
@@ -216,9 +221,7 @@ impl Grower<'_> {
                     continue;
                 }
                 let n = twin / 3;
-                if self.groups[n as usize] != g
-                    || self.labels[n as usize].load(Relaxed) != UNLABELLED
-                {
+                if self.labels[n as usize].load(Relaxed) != free {
                     continue;
                 }
                 let corners = self.corners(n);
