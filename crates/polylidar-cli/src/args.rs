@@ -163,4 +163,7 @@ pub struct ParamArgs {
     /// Worker threads (0: one per core).
     #[arg(long)]
     pub threads: Option<usize>,
+    /// 3D: skip the preset's Laplacian and bilateral smoothing.
+    #[arg(long)]
+    pub no_smoothing: bool,
 }

@@ -77,6 +77,7 @@ fn apply_flags(config: &mut Config, flags: &ParamArgs) {
         z_thresh,
         up,
         threads,
+        no_smoothing,
     } = flags;
     if let Some(v) = alpha {
         config.alpha = *v;
@@ -101,5 +102,9 @@ fn apply_flags(config: &mut Config, flags: &ParamArgs) {
     }
     if let Some(v) = threads {
         config.threads = *v;
+    }
+    if *no_smoothing {
+        config.laplacian = None;
+        config.bilateral = None;
     }
 }

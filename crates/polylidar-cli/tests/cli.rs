@@ -192,6 +192,18 @@ fn generated_scan_round_trips_through_extract_and_evaluate() {
         "synpeb",
     ]));
     assert_eq!(saved["metrics"], fresh["metrics"]);
+    // Without smoothing, the smoothing stages are absent.
+    let raw = json(&polylidar(&[
+        "extract",
+        scan.to_str().unwrap(),
+        "--preset",
+        "synpeb",
+        "--no-smoothing",
+        "--json",
+    ]));
+    let stages = raw["timings_ms"].as_object().unwrap();
+    assert!(!stages.contains_key("laplacian") && !stages.contains_key("bilateral"));
+    assert_eq!(raw["counts"]["laplacian_iterations"], 0);
     assert_eq!(
         saved["metrics"]["predicted_planes"],
         extracted["counts"]["polygons"]
