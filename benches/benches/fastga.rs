@@ -13,18 +13,7 @@ use fastga::{
 };
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-
-fn random_unit_normals(count: usize, seed: u64) -> Vec<[f64; 3]> {
-    let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    (0..count)
-        .map(|_| {
-            let z: f64 = rng.random_range(-1.0..=1.0);
-            let phi: f64 = rng.random_range(0.0..std::f64::consts::TAU);
-            let r = (1.0 - z * z).sqrt();
-            [r * phi.cos(), r * phi.sin(), z]
-        })
-        .collect()
-}
+use test_fixtures::random_unit_normals;
 
 fn bench_integrate<N: AsNormal>(c: &mut Criterion, group: &str, normals: &[N], fraction: f64) {
     let mut group = c.benchmark_group(group);

@@ -13,7 +13,7 @@ use std::time::Duration;
 use criterion::{Criterion, criterion_group, criterion_main};
 use polylidar::{Config, Extraction, OrganizedPointCloud, Polylidar};
 use polylidar_io::{InputKind, read_input};
-use polypost::{Plane, Polygon3, PostProcessor, PostprocessConfig};
+use polypost::{Plane, Polygon3, PostProcessor};
 
 /// Runs for the printed stage medians.
 const RUNS: usize = 21;
@@ -86,15 +86,7 @@ fn bench(c: &mut Criterion) {
     ];
     let rgbd = Config::preset("rgbd").expect("preset");
     let post = rgbd.postprocess.expect("the rgbd preset post-processes");
-    let processor = PostProcessor::new(
-        PostprocessConfig::default()
-            .with_alpha(post.alpha)
-            .with_beta_pos(post.beta_pos)
-            .with_beta_neg(post.beta_neg)
-            .with_min_area(post.min_area)
-            .with_min_hole_area(post.min_hole_area),
-    )
-    .expect("valid post-processing");
+    let processor = PostProcessor::new(post.config()).expect("valid post-processing");
 
     let mut group = c.benchmark_group("pipeline_3d");
     group

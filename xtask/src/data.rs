@@ -4,8 +4,6 @@
 use std::path::{Path, PathBuf};
 
 use opc_mesh::OrganizedPointCloud;
-use rand::{RngExt, SeedableRng};
-use rand_chacha::ChaCha8Rng;
 
 use crate::error::{Result, msg};
 
@@ -135,19 +133,6 @@ pub fn read_synpeb(path: &Path) -> Result<LabelledCloud> {
 pub fn read_npy_cloud(path: &Path) -> Result<OrganizedPointCloud> {
     let pc = polylidar_io::read_npy(path)?.into_point_cloud()?;
     Ok(OrganizedPointCloud::new(pc.rows, pc.cols, pc.points)?)
-}
-
-/// `count` unit normals uniform on the sphere, reproducibly from `seed`.
-pub fn random_unit_normals(count: usize, seed: u64) -> Vec<[f64; 3]> {
-    let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    (0..count)
-        .map(|_| {
-            let z: f64 = rng.random_range(-1.0..=1.0);
-            let phi: f64 = rng.random_range(0.0..std::f64::consts::TAU);
-            let r = (1.0 - z * z).sqrt();
-            [r * phi.cos(), r * phi.sin(), z]
-        })
-        .collect()
 }
 
 /// Radial (range) noise of the synthetic suite, metres: chosen so that the ground-truth

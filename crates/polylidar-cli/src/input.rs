@@ -70,11 +70,15 @@ pub struct Loaded {
     pub truth: Option<Vec<i32>>,
 }
 
-/// Loads `path`, or the demo, with organized input downsampled by `stride`.
+/// Loads `path`, or the demo, with organized input (and its ground truth) downsampled by
+/// `stride`.
+///
+/// # Errors
+/// Unreadable input, or `stride > 1` for input that is not organized.
 pub fn load(path: Option<&Path>, demo: Option<Demo>, stride: usize) -> Result<Loaded, CliError> {
     let mut loaded = match (path, demo) {
         (Some(path), _) => Loaded {
-            input: load_file(path, stride)?,
+            input: load_file(path)?,
             source: path.display().to_string(),
             truth: None,
         },
@@ -85,7 +89,12 @@ pub fn load(path: Option<&Path>, demo: Option<Demo>, stride: usize) -> Result<Lo
         },
         (None, _) => demo_scene()?,
     };
-    if let (Input::Organized(cloud), true) = (&loaded.input, stride > 1 && path.is_none()) {
+    if stride > 1 {
+        let Input::Organized(cloud) = &loaded.input else {
+            return Err(CliError::Unsupported {
+                what: format!("{}: --stride needs organized input", loaded.source),
+            });
+        };
         let cols = cloud.cols();
         loaded.truth = loaded.truth.map(|t| {
             t.iter()
@@ -94,32 +103,17 @@ pub fn load(path: Option<&Path>, demo: Option<Demo>, stride: usize) -> Result<Lo
                 .map(|(_, &l)| l)
                 .collect()
         });
-        loaded.input = Input::Organized(
-            cloud
-                .downsample(stride)
-                .map_err(polylidar::PolylidarError::from)?,
-        );
+        loaded.input = Input::Organized(cloud.downsample(stride)?);
     }
     Ok(loaded)
 }
 
-fn load_file(path: &Path, stride: usize) -> Result<Input, CliError> {
-    let organized = |cloud: OrganizedPointCloud| -> Result<Input, CliError> {
-        let cloud = if stride > 1 {
-            cloud
-                .downsample(stride)
-                .map_err(polylidar::PolylidarError::from)?
-        } else {
-            cloud
-        };
-        Ok(Input::Organized(cloud))
-    };
+fn load_file(path: &Path) -> Result<Input, CliError> {
     match polylidar_io::read_input(path)? {
         InputKind::Points2d(points) => Ok(Input::Points2d(points)),
-        InputKind::Cloud(cloud) if cloud.is_organized() => organized(
-            OrganizedPointCloud::new(cloud.rows, cloud.cols, cloud.points)
-                .map_err(polylidar::PolylidarError::from)?,
-        ),
+        InputKind::Cloud(cloud) if cloud.is_organized() => Ok(Input::Organized(
+            OrganizedPointCloud::new(cloud.rows, cloud.cols, cloud.points)?,
+        )),
         InputKind::Cloud(cloud) => Ok(Input::Cloud(cloud.points)),
         InputKind::Mesh(mesh) => Ok(Input::Mesh {
             vertices: mesh.vertices,
@@ -128,7 +122,7 @@ fn load_file(path: &Path, stride: usize) -> Result<Input, CliError> {
         InputKind::Depth { image, intrinsics } => {
             let camera =
                 Intrinsics::new(intrinsics.fx, intrinsics.fy, intrinsics.ppx, intrinsics.ppy);
-            let mut options = DepthOptions::new(camera).with_stride(stride);
+            let mut options = DepthOptions::new(camera);
             if let Some(scale) = intrinsics.depth_scale {
                 options = options.with_depth_scale(scale);
             }
@@ -137,8 +131,7 @@ fn load_file(path: &Path, stride: usize) -> Result<Input, CliError> {
                 image.height,
                 image.width,
                 &options,
-            )
-            .map_err(polylidar::PolylidarError::from)?;
+            )?;
             Ok(Input::Organized(cloud))
         }
     }
@@ -155,8 +148,7 @@ fn demo_shape() -> Result<Input, CliError> {
 fn demo_scene() -> Result<Loaded, CliError> {
     let (seed, mdeg) = DEMO_SCENE;
     let scan = generate_scan(seed, mdeg, 0.0)?;
-    let cloud = OrganizedPointCloud::new(scan.rows, scan.cols, scan.points)
-        .map_err(polylidar::PolylidarError::from)?;
+    let cloud = OrganizedPointCloud::new(scan.rows, scan.cols, scan.points)?;
     Ok(Loaded {
         input: Input::Organized(cloud),
         source: format!("built-in demo: scene (seed {seed}, {mdeg} mdeg noise)"),

@@ -64,6 +64,12 @@ pub enum CliError {
     },
 }
 
+impl From<polylidar::OpcError> for CliError {
+    fn from(e: polylidar::OpcError) -> Self {
+        CliError::Pipeline(e.into())
+    }
+}
+
 /// Runs the parsed command line.
 pub fn run(cli: Cli) -> Result<(), CliError> {
     match cli.command {

@@ -172,6 +172,17 @@ fn generated_scan_round_trips_through_extract_and_evaluate() {
         "--json",
     ]));
     assert_eq!(extracted["input"]["rows"], 500);
+    let halved = json(&polylidar(&[
+        "extract",
+        scan.to_str().unwrap(),
+        "--preset",
+        "synpeb",
+        "--stride",
+        "2",
+        "--json",
+    ]));
+    assert_eq!(halved["input"]["rows"], 250);
+    assert_eq!(halved["input"]["cols"], 250);
     assert!(extracted["counts"]["polygons"].as_u64().unwrap() >= 10);
 
     // Scoring the saved prediction and scoring a fresh run agree.
@@ -366,6 +377,10 @@ fn bad_input_gives_clear_errors() {
     let preset = polylidar(&["extract", "--demo", "--preset", "lidar"]);
     assert!(!preset.status.success());
     assert!(String::from_utf8_lossy(&preset.stderr).contains("synpeb"));
+
+    let stride = polylidar(&["extract", "--demo", "shape", "--stride", "2"]);
+    assert!(!stride.status.success());
+    assert!(String::from_utf8_lossy(&stride.stderr).contains("organized"));
 
     let negative = polylidar(&["extract", "--demo", "shape", "--alpha", "-1"]);
     assert!(!negative.status.success());

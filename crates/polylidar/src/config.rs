@@ -1,5 +1,8 @@
 //! Pipeline parameters, with units and defaults, loadable from TOML.
 
+use fastga::FastGaConfig;
+use mesh_smooth_gpu::{Backend, BilateralOptions, LaplacianOptions};
+use polypost::PostprocessConfig;
 use serde::{Deserialize, Serialize};
 
 use crate::PolylidarError;
@@ -68,13 +71,27 @@ pub struct LaplacianConfig {
 }
 
 impl Default for LaplacianConfig {
+    /// The filter's own defaults ([`LaplacianOptions::default`]).
     fn default() -> Self {
+        let o = LaplacianOptions::default();
         Self {
-            kernel: 3,
-            lambda: 1.0,
-            iterations: LaplacianIterations::Fixed(2),
-            backend: SmoothingBackend::CpuParallel,
+            kernel: o.kernel,
+            lambda: o.lambda,
+            iterations: LaplacianIterations::Fixed(o.iterations),
+            backend: o.backend.into(),
         }
+    }
+}
+
+impl LaplacianConfig {
+    /// The filter options for `iterations` passes (the count [`Self::iterations`] fixes
+    /// or predicts).
+    pub fn options(&self, iterations: u32) -> LaplacianOptions {
+        LaplacianOptions::new()
+            .with_kernel(self.kernel)
+            .with_lambda(self.lambda)
+            .with_iterations(iterations)
+            .with_backend(self.backend.into())
     }
 }
 
@@ -187,14 +204,28 @@ pub struct BilateralConfig {
 }
 
 impl Default for BilateralConfig {
+    /// The filter's own defaults ([`BilateralOptions::default`]).
     fn default() -> Self {
+        let o = BilateralOptions::default();
         Self {
-            kernel: 3,
-            sigma_length: 0.1,
-            sigma_angle: 0.1,
-            iterations: 2,
-            backend: SmoothingBackend::CpuParallel,
+            kernel: o.kernel,
+            sigma_length: o.sigma_length,
+            sigma_angle: o.sigma_angle,
+            iterations: o.iterations,
+            backend: o.backend.into(),
         }
+    }
+}
+
+impl BilateralConfig {
+    /// The filter options.
+    pub fn options(&self) -> BilateralOptions {
+        BilateralOptions::new()
+            .with_kernel(self.kernel)
+            .with_sigma_length(self.sigma_length)
+            .with_sigma_angle(self.sigma_angle)
+            .with_iterations(self.iterations)
+            .with_backend(self.backend.into())
     }
 }
 
@@ -209,6 +240,26 @@ pub enum SmoothingBackend {
     CpuParallel,
     /// The GPU through wgpu (needs the `gpu` feature of this crate).
     Gpu,
+}
+
+impl From<SmoothingBackend> for Backend {
+    fn from(b: SmoothingBackend) -> Self {
+        match b {
+            SmoothingBackend::Cpu => Backend::Cpu,
+            SmoothingBackend::CpuParallel => Backend::CpuParallel,
+            SmoothingBackend::Gpu => Backend::Gpu,
+        }
+    }
+}
+
+impl From<Backend> for SmoothingBackend {
+    fn from(b: Backend) -> Self {
+        match b {
+            Backend::Cpu => SmoothingBackend::Cpu,
+            Backend::CpuParallel => SmoothingBackend::CpuParallel,
+            Backend::Gpu => SmoothingBackend::Gpu,
+        }
+    }
 }
 
 /// FastGA parameters (Polylidar3D §6).
@@ -230,15 +281,32 @@ pub struct FastGaSection {
 }
 
 impl Default for FastGaSection {
+    /// FastGA's own defaults ([`FastGaConfig::default`]), sampling the paper's 12 % of at
+    /// least 10,000 normals.
     fn default() -> Self {
+        let o = FastGaConfig::default();
         Self {
-            level: 4,
+            level: o.level,
             sample_fraction: 0.12,
             min_samples: 10_000,
-            value_threshold: 15.0,
-            cluster_distance: 0.1,
-            min_cluster_weight: 0.15,
+            value_threshold: o.value_threshold,
+            cluster_distance: o.cluster_distance,
+            min_cluster_weight: o.min_cluster_weight,
         }
+    }
+}
+
+impl FastGaSection {
+    /// The detector configuration for a mesh of `normals` triangle normals: the sample
+    /// fraction is raised so that at least `min_samples` normals are integrated.
+    pub fn config_for(&self, normals: usize) -> FastGaConfig {
+        let floor = self.min_samples as f64 / normals.max(1) as f64;
+        FastGaConfig::default()
+            .with_level(self.level)
+            .with_sample_fraction(self.sample_fraction.max(floor).min(1.0))
+            .with_value_threshold(self.value_threshold)
+            .with_cluster_distance(self.cluster_distance)
+            .with_min_cluster_weight(self.min_cluster_weight)
     }
 }
 
@@ -256,6 +324,18 @@ pub struct PostprocessSection {
     pub min_area: f64,
     /// δ: holes with a smaller area are dropped (unit²).
     pub min_hole_area: f64,
+}
+
+impl PostprocessSection {
+    /// The post-processor configuration.
+    pub fn config(&self) -> PostprocessConfig {
+        PostprocessConfig::default()
+            .with_alpha(self.alpha)
+            .with_beta_pos(self.beta_pos)
+            .with_beta_neg(self.beta_neg)
+            .with_min_area(self.min_area)
+            .with_min_hole_area(self.min_hole_area)
+    }
 }
 
 /// Names accepted by [`Config::preset`].
@@ -516,7 +596,11 @@ impl Config {
             );
         }
         if !(self.z_thresh.is_finite() && self.z_thresh >= 0.0) {
-            return bad("z_thresh", self.z_thresh.to_string(), "must be a finite length ≥ 0");
+            return bad(
+                "z_thresh",
+                self.z_thresh.to_string(),
+                "must be a finite length ≥ 0",
+            );
         }
         let up_len2: f64 = self.up.iter().map(|c| c * c).sum();
         if !(up_len2.is_finite() && up_len2 > 0.0) {

@@ -47,15 +47,15 @@ pub use config::{
     BilateralConfig, Config, FastGaSection, LaplacianConfig, LaplacianIterations, PRESETS,
     PostprocessSection, SmoothingBackend,
 };
-pub use noise::{
-    MAX_AUTO_ITERATIONS, estimate_noise, estimate_noise_absolute, predict_laplacian_iterations,
-};
 pub use diagnostics::{Counts, Diagnostics, Timings};
 pub use error::PolylidarError;
 pub use halfedge_mesh::{HalfEdgeMesh, MeshError};
-pub use opc_mesh::{DepthOptions, Intrinsics, OrganizedPointCloud};
+pub use noise::{
+    MAX_AUTO_ITERATIONS, estimate_noise, estimate_noise_absolute, predict_laplacian_iterations,
+};
+pub use opc_mesh::{DepthOptions, Intrinsics, OpcError, OrganizedPointCloud};
 pub use pipeline::{
-    ExtractedPolygon, Extraction, PlaneFrame, Polylidar, PolygonPlane, PostprocessedPolygon,
+    ExtractedPolygon, Extraction, PlaneFrame, PolygonPlane, Polylidar, PostprocessedPolygon,
 };
 
 #[doc = include_str!("../README.md")]

@@ -1,14 +1,13 @@
 //! The Polylidar3D pipeline: organized clouds and meshes → smoothing → dominant normals →
 //! planar segments and polygons → optional post-processing.
 
-use fastga::{FastGa, FastGaConfig};
+use fastga::FastGa;
 use halfedge_mesh::{HalfEdgeMesh, MeshOptions};
-use mesh_smooth_gpu::{Backend, BilateralOptions, LaplacianOptions};
 use opc_mesh::{OpcMeshOptions, OrganizedPointCloud};
 use planeseg::SegmentationConfig;
-use polypost::{Plane, Polygon3, PostProcessor, PostprocessConfig};
+use polypost::{Plane, Polygon3, PostProcessor};
 
-use crate::config::{LaplacianIterations, SmoothingBackend};
+use crate::config::LaplacianIterations;
 use crate::pipeline::PolygonPlane;
 use crate::reuse;
 use crate::{
@@ -45,13 +44,8 @@ impl Polylidar {
                         if iterations == 0 {
                             return Ok((0, None));
                         }
-                        let options = LaplacianOptions::new()
-                            .with_kernel(l.kernel)
-                            .with_lambda(l.lambda)
-                            .with_iterations(iterations)
-                            .with_backend(backend(l.backend));
                         reuse
-                            .laplacian(cloud, &options)
+                            .laplacian(cloud, &l.options(iterations))
                             .map(|s| (iterations, Some(s)))
                     });
                     let (iterations, filtered) = result?;
@@ -70,13 +64,9 @@ impl Polylidar {
                 cloud.mesh(&OpcMeshOptions::new().with_compute_normals(true))
             })?;
             if let Some(b) = &config.bilateral {
-                let options = BilateralOptions::new()
-                    .with_kernel(b.kernel)
-                    .with_sigma_length(b.sigma_length)
-                    .with_sigma_angle(b.sigma_angle)
-                    .with_iterations(b.iterations)
-                    .with_backend(backend(b.backend));
-                timings.time("bilateral", || reuse.bilateral(cloud, &options, &mut opc))?;
+                timings.time("bilateral", || {
+                    reuse.bilateral(cloud, &b.options(), &mut opc)
+                })?;
             }
             // `extract_planes` takes the lock again for FastGA.
             drop(reuse);
@@ -187,14 +177,7 @@ impl Polylidar {
         let Some(p) = self.config().postprocess else {
             return Ok(());
         };
-        let processor = PostProcessor::new(
-            PostprocessConfig::default()
-                .with_alpha(p.alpha)
-                .with_beta_pos(p.beta_pos)
-                .with_beta_neg(p.beta_neg)
-                .with_min_area(p.min_area)
-                .with_min_hole_area(p.min_hole_area),
-        )?;
+        let processor = PostProcessor::new(p.config())?;
         let polygons = &extraction.polygons;
         let output = extraction.diagnostics.timings.time("postprocess", || {
             let inputs: Vec<Polygon3> = polygons
@@ -223,39 +206,22 @@ impl Polylidar {
     }
 }
 
-fn backend(b: SmoothingBackend) -> Backend {
-    match b {
-        SmoothingBackend::Cpu => Backend::Cpu,
-        SmoothingBackend::CpuParallel => Backend::CpuParallel,
-        SmoothingBackend::Gpu => Backend::Gpu,
-    }
-}
-
 impl Polylidar {
     /// Dominant normals of the mesh's triangle normals, with the detector kept between
     /// runs; the sample fraction is raised so that at least `min_samples` normals are
     /// integrated.
     fn detect_normals(&self, mesh: &HalfEdgeMesh) -> Result<Vec<[f64; 3]>, PolylidarError> {
-        let f = self.config().fastga;
         let normals = mesh.triangle_normals().unwrap_or(&[]);
         if normals.is_empty() {
             return Ok(Vec::new());
         }
-        let floor = f.min_samples as f64 / normals.len() as f64;
-        let fraction = f.sample_fraction.max(floor).min(1.0);
+        let config = self.config().fastga.config_for(normals.len());
         let mut reuse = reuse::lock(&self.reuse);
         let fastga = match reuse.fastga.as_mut() {
             Some(fastga) => fastga,
-            None => reuse.fastga.insert(FastGa::new(
-                FastGaConfig::default()
-                    .with_level(f.level)
-                    .with_sample_fraction(fraction)
-                    .with_value_threshold(f.value_threshold)
-                    .with_cluster_distance(f.cluster_distance)
-                    .with_min_cluster_weight(f.min_cluster_weight),
-            )?),
+            None => reuse.fastga.insert(FastGa::new(config)?),
         };
-        fastga.set_sample_fraction(fraction)?;
+        fastga.set_sample_fraction(config.sample_fraction)?;
         let found = fastga.detect(normals)?;
         Ok(found.normals.iter().map(|d| d.normal).collect())
     }

@@ -73,7 +73,7 @@ pub fn sample_uniform(
             }
         }
     }
-    if !(total > 0.0) {
+    if total.is_nan() || total <= 0.0 {
         return Err(ShapeError::ZeroArea);
     }
     let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);

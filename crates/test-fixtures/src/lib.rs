@@ -11,6 +11,9 @@
 
 use std::path::PathBuf;
 
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
 /// The folder named by the `POLYLIDAR_FIXTURES` environment variable; else the first
 /// `shared/fixtures` found beside the current directory or one of its ancestors (cargo runs
 /// tests and benchmarks in their package's folder, inside the workspace); else the one
@@ -54,4 +57,24 @@ pub fn fixture(relative: &str) -> Option<PathBuf> {
     }
     eprintln!("skipping: {message}");
     None
+}
+
+/// `count` unit normals uniform on the sphere, reproducibly from `seed` (the random input
+/// of the FastGA benchmarks, Polylidar3D Table 2).
+///
+/// ```
+/// let normals = test_fixtures::random_unit_normals(100, 7);
+/// assert_eq!(normals, test_fixtures::random_unit_normals(100, 7));
+/// assert!(normals.iter().all(|n| (n[0] * n[0] + n[1] * n[1] + n[2] * n[2] - 1.0).abs() < 1e-12));
+/// ```
+pub fn random_unit_normals(count: usize, seed: u64) -> Vec<[f64; 3]> {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    (0..count)
+        .map(|_| {
+            let z: f64 = rng.random_range(-1.0..=1.0);
+            let phi: f64 = rng.random_range(0.0..std::f64::consts::TAU);
+            let r = (1.0 - z * z).sqrt();
+            [r * phi.cos(), r * phi.sin(), z]
+        })
+        .collect()
 }

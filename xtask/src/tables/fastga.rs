@@ -7,10 +7,11 @@ use fastga::{FastGa, FastGaConfig, GaussianAccumulator, KdAccumulator, Paralleli
 use opc_mesh::OpcMeshOptions;
 
 use crate::bench::Ctx;
-use crate::data::{FIXTURES_NAME, random_unit_normals, read_synpeb};
+use crate::data::{FIXTURES_NAME, read_synpeb};
 use crate::error::{Result, msg};
 use crate::report::{PAPER_HARDWARE, Section, Table};
 use crate::timing::{Stats, measure, ms};
+use test_fixtures::random_unit_normals;
 
 /// Refinement level of Table 2 (5,120 cells).
 const LEVEL: u32 = 4;

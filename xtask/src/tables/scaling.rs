@@ -3,7 +3,7 @@
 
 use std::fmt::Write as _;
 
-use fastga::{FastGa, FastGaConfig};
+use fastga::FastGa;
 use polylidar::{Config, FastGaSection, HalfEdgeMesh, Polylidar};
 
 use crate::bench::Ctx;
@@ -172,20 +172,6 @@ fn dominant_normals(mesh: &HalfEdgeMesh, section: &FastGaSection) -> Result<Vec<
     let normals = mesh
         .triangle_normals()
         .ok_or_else(|| msg("the mesh has no triangle normals"))?;
-    let fraction = if normals.is_empty() {
-        1.0
-    } else {
-        section
-            .sample_fraction
-            .max(section.min_samples as f64 / normals.len() as f64)
-            .min(1.0)
-    };
-    let config = FastGaConfig::default()
-        .with_level(section.level)
-        .with_sample_fraction(fraction)
-        .with_value_threshold(section.value_threshold)
-        .with_cluster_distance(section.cluster_distance)
-        .with_min_cluster_weight(section.min_cluster_weight);
-    let found = FastGa::new(config)?.detect(normals)?;
+    let found = FastGa::new(section.config_for(normals.len()))?.detect(normals)?;
     Ok(found.normals.iter().map(|d| d.normal).collect())
 }
