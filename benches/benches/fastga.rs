@@ -1,5 +1,6 @@
 //! FastGA benchmarks (Polylidar3D Table 2): integrating normals into a level-4 Gaussian
-//! accumulator (5,120 cells) with the learned-index search against the k-d tree baseline, on
+//! accumulator (5,120 cells) with the paper's learned-index search and with the cell table,
+//! against the k-d tree baseline, on
 //! one thread and on the rayon pool; peak detection and clustering at level 5; and the
 //! triangle normals of the meshed SynPEB cloud pc_01 when `../shared/fixtures` is present.
 //!
@@ -9,7 +10,7 @@ use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use fastga::{
-    AsNormal, FastGaConfig, GaussianAccumulator, KdAccumulator, Parallelism, cluster_peaks,
+    AsNormal, FastGaConfig, GaussianAccumulator, KdAccumulator, Parallelism, Search, cluster_peaks,
 };
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -20,18 +21,28 @@ fn bench_integrate<N: AsNormal>(c: &mut Criterion, group: &str, normals: &[N], f
     if normals.len() > 200_000 {
         group.sample_size(20);
     }
-    let mut ga = GaussianAccumulator::new(4).unwrap_or_else(|e| unreachable!("level 4: {e}"));
+    let mut searches = [
+        ("learned index", Search::LearnedIndex),
+        ("cell table", Search::CellTable),
+    ]
+    .map(|(label, search)| {
+        let ga = GaussianAccumulator::with_search(4, search)
+            .unwrap_or_else(|e| unreachable!("level 4: {e}"));
+        (label, ga)
+    });
     let mut kd = KdAccumulator::new(4).unwrap_or_else(|e| unreachable!("level 4: {e}"));
     for (name, parallelism) in [
         ("1 thread", Parallelism::Sequential),
         ("rayon", Parallelism::Rayon),
     ] {
-        group.bench_function(format!("fastga {name}"), |b| {
-            b.iter(|| {
-                ga.clear();
-                black_box(ga.integrate(black_box(normals), fraction, parallelism))
-            })
-        });
+        for (label, ga) in &mut searches {
+            group.bench_function(format!("fastga {label} {name}"), |b| {
+                b.iter(|| {
+                    ga.clear();
+                    black_box(ga.integrate(black_box(normals), fraction, parallelism))
+                })
+            });
+        }
         group.bench_function(format!("kd-tree {name}"), |b| {
             b.iter(|| {
                 kd.clear();

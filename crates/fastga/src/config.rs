@@ -1,6 +1,6 @@
 //! The one-call pipeline: configuration, presets from the paper, and [`FastGa`].
 
-use crate::accumulator::GaussianAccumulator;
+use crate::accumulator::{GaussianAccumulator, Search};
 use crate::integrate::{AsNormal, IntegrateStats, Parallelism};
 use crate::peaks::{DominantNormal, Peak, cluster_peaks};
 use crate::{FastGaError, MAX_LEVEL};
@@ -26,6 +26,9 @@ pub struct FastGaConfig {
     pub unit_tolerance: f64,
     /// Sequential or rayon integration; results are identical. Default [`Parallelism::Rayon`].
     pub parallelism: Parallelism,
+    /// How normals are matched to cells; results are identical. Default
+    /// [`Search::CellTable`].
+    pub search: Search,
 }
 
 impl Default for FastGaConfig {
@@ -38,6 +41,7 @@ impl Default for FastGaConfig {
             min_cluster_weight: 0.15,
             unit_tolerance: crate::accumulator::DEFAULT_UNIT_TOLERANCE,
             parallelism: Parallelism::Rayon,
+            search: Search::CellTable,
         }
     }
 }
@@ -119,6 +123,12 @@ impl FastGaConfig {
         self
     }
 
+    /// Sets [`search`](Self::search).
+    pub fn with_search(mut self, search: Search) -> Self {
+        self.search = search;
+        self
+    }
+
     /// Checks every field's range.
     ///
     /// # Errors
@@ -187,7 +197,7 @@ impl FastGa {
     /// The first out-of-range field of `config`.
     pub fn new(config: FastGaConfig) -> Result<Self, FastGaError> {
         config.validate()?;
-        let mut accumulator = GaussianAccumulator::new(config.level)?;
+        let mut accumulator = GaussianAccumulator::with_search(config.level, config.search)?;
         accumulator.set_unit_tolerance(config.unit_tolerance)?;
         Ok(Self {
             config,

@@ -5,10 +5,12 @@
 //!
 //! 1. a **refined icosahedron** ([`Icosahedron`], levels 0–7, `20·4^L` triangle cells) is the
 //!    histogram of the sphere; its cells are sorted by their normals' [S2 cell ids](s2id);
-//! 2. each normal is binned into the cell with the closest normal by **Algorithm 3**: its S2
-//!    id, a least-squares line from id to array index with exact worst-case error bounds, a
-//!    branchless binary search in that window, then steepest ascent over the 1-ring neighbour
-//!    matrix by true angular distance ([`GaussianAccumulator`]);
+//! 2. each normal is binned into the cell with the closest normal ([`GaussianAccumulator`]),
+//!    found by **Algorithm 3** ([`Search::LearnedIndex`]: its S2 id, a least-squares line from
+//!    id to array index with exact worst-case error bounds, a branchless binary search in that
+//!    window, then steepest ascent over the 1-ring neighbour matrix by true angular distance)
+//!    or, by default, by a **cell table** built from it ([`Search::CellTable`]: the candidate
+//!    cells of each S2 cell two levels finer than the icosahedron, about twice as fast);
 //! 3. the vertex values (mean of the incident cells) are **unwrapped** into the five-chart
 //!    image of Cohen et al. ([`UnwrappedImage`], writable as PNG) normalised to 0–255, whose
 //!    3×3 local maxima above `value_threshold` are the [`Peak`]s;
@@ -50,8 +52,9 @@ mod kdtree;
 mod peaks;
 pub mod s2id;
 mod search;
+mod table;
 
-pub use accumulator::{DEFAULT_UNIT_TOLERANCE, GaussianAccumulator};
+pub use accumulator::{DEFAULT_UNIT_TOLERANCE, GaussianAccumulator, Search};
 pub use config::{Detection, FastGa, FastGaConfig, dominant_normals};
 pub use error::FastGaError;
 pub use icosahedron::{Icosahedron, MAX_LEVEL, NO_NEIGHBOR, NORTH_POLE, SOUTH_POLE};

@@ -59,17 +59,35 @@ const FACE_AXES: [(usize, f64, usize, f64, usize); 6] = [
 #[inline(always)]
 pub fn face(p: [f64; 3]) -> u8 {
     let (ax, ay, az) = (p[0].abs(), p[1].abs(), p[2].abs());
-    let (axis, largest, value) = if ay > ax {
-        (1, ay, p[1])
-    } else {
-        (0, ax, p[0])
-    };
-    let (axis, value) = if az > largest {
-        (2, p[2])
-    } else {
-        (axis, value)
-    };
-    axis + if value < 0.0 { 3 } else { 0 }
+    // Conditional moves: on random directions every comparison is a coin flip.
+    let y = ay > ax;
+    let axis = std::hint::select_unpredictable(y, 1u8, 0);
+    let largest = std::hint::select_unpredictable(y, ay, ax);
+    let axis = std::hint::select_unpredictable(az > largest, 2, axis);
+    axis + 3 * u8::from(p[usize::from(axis)] < 0.0)
+}
+
+/// The cube face of `p` and its face coordinates `(u, v)` in [−1, 1].
+#[inline(always)]
+pub fn face_uv(p: [f64; 3]) -> (u8, f64, f64) {
+    let f = face(p);
+    let (ua, us, va, vs, wa) = FACE_AXES[usize::from(f)];
+    let w = p[wa];
+    // Divisions, not a reciprocal: the ids must match the `s2` crate's to the last bit.
+    (f, us * p[ua] / w, vs * p[va] / w)
+}
+
+/// The unit vector at face coordinates `(s, t)` in [0, 1]² of cube face `face` (0–5): the
+/// inverse of [`face_uv`] followed by [`uv_to_st`], normalised.
+pub fn face_st_to_point(face: u8, s: f64, t: f64) -> [f64; 3] {
+    let (ua, us, va, vs, wa) = FACE_AXES[usize::from(face)];
+    let w = if face < 3 { 1.0 } else { -1.0 };
+    let mut p = [0.0; 3];
+    p[wa] = w;
+    p[ua] = st_to_uv(s) * w * us;
+    p[va] = st_to_uv(t) * w * vs;
+    let len = (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt();
+    p.map(|x| x / len)
 }
 
 /// The quadratic projection from a face coordinate `u` in [−1, 1] to `s` in [0, 1].
@@ -77,6 +95,16 @@ pub fn face(p: [f64; 3]) -> u8 {
 pub fn uv_to_st(u: f64) -> f64 {
     let half = 0.5 * (1.0 + 3.0 * u.abs()).sqrt();
     std::hint::select_unpredictable(u >= 0.0, half, 1.0 - half)
+}
+
+/// The inverse of [`uv_to_st`].
+#[inline]
+pub fn st_to_uv(s: f64) -> f64 {
+    if s >= 0.5 {
+        (4.0 * s * s - 1.0) / 3.0
+    } else {
+        (1.0 - 4.0 * (1.0 - s) * (1.0 - s)) / 3.0
+    }
 }
 
 /// Leaf-cell coordinate (0 ..= 2^30 − 1) of `s` in [0, 1].
@@ -110,11 +138,7 @@ pub fn cell_id_prefix(p: [f64; 3], steps: u32) -> u64 {
 /// Cube face and leaf coordinates of `p`.
 #[inline(always)]
 fn face_ij(p: [f64; 3]) -> (u8, u32, u32) {
-    let f = face(p);
-    let (ua, us, va, vs, wa) = FACE_AXES[usize::from(f)];
-    let w = p[wa];
-    let u = us * p[ua] / w;
-    let v = vs * p[va] / w;
+    let (f, u, v) = face_uv(p);
     (f, st_to_ij(uv_to_st(u)), st_to_ij(uv_to_st(v)))
 }
 
@@ -190,10 +214,27 @@ mod tests {
     }
 
     #[test]
+    fn face_st_to_point_inverts_face_uv() {
+        for f in 0..6u8 {
+            for (s, t) in [(0.5, 0.5), (0.1, 0.9), (0.97, 0.03), (0.3, 0.6)] {
+                let p = face_st_to_point(f, s, t);
+                assert!(((p[0] * p[0] + p[1] * p[1] + p[2] * p[2]) - 1.0).abs() < 1e-15);
+                let (face, u, v) = face_uv(p);
+                assert_eq!(face, f);
+                assert!((uv_to_st(u) - s).abs() < 1e-14, "face {f} s {s}");
+                assert!((uv_to_st(v) - t).abs() < 1e-14, "face {f} t {t}");
+            }
+        }
+    }
+
+    #[test]
     fn quadratic_transform_maps_the_face_edges() {
         assert_eq!(uv_to_st(-1.0), 0.0);
         assert_eq!(uv_to_st(0.0), 0.5);
         assert_eq!(uv_to_st(1.0), 1.0);
+        for u in [-1.0, -0.4, 0.0, 0.25, 1.0] {
+            assert!((st_to_uv(uv_to_st(u)) - u).abs() < 1e-15);
+        }
         assert_eq!(st_to_ij(1.0), (1 << 30) - 1);
         assert_eq!(st_to_ij(0.0), 0);
     }

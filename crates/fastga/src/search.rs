@@ -247,7 +247,7 @@ impl CellSearch {
     /// normal (checked in the tests), so a cell with no better neighbour is the closest cell
     /// overall; so is one that passes `is_certain`.
     #[inline(always)]
-    fn descend(&self, mut best: usize, mut best_dot: f64, p: [f64; 3]) -> u32 {
+    pub(crate) fn descend(&self, mut best: usize, mut best_dot: f64, p: [f64; 3]) -> u32 {
         loop {
             let mut next = best;
             for &c in &self.cells[best].ring {

@@ -3,12 +3,20 @@
 mod common;
 
 use common::{cross, dot, normalize, random_units, sub};
-use fastga::{GaussianAccumulator, Icosahedron, KdAccumulator, NO_NEIGHBOR, Parallelism};
+use fastga::{GaussianAccumulator, Icosahedron, KdAccumulator, NO_NEIGHBOR, Parallelism, Search};
 use rayon::prelude::*;
 
 /// Two cells are equally good answers when their normals' dot products with the query differ
 /// by at most this (the documented tie rule).
 const TIE: f64 = 1e-12;
+
+/// An accumulator at `level` with each search: Algorithm 3 and the cell table.
+fn both_searches(level: u32) -> [GaussianAccumulator; 2] {
+    [Search::LearnedIndex, Search::CellTable].map(|search| {
+        GaussianAccumulator::with_search(level, search)
+            .unwrap_or_else(|e| unreachable!("level {level}: {e}"))
+    })
+}
 
 fn assert_matches_brute_force(ico: &Icosahedron, found: u32, p: [f64; 3], what: &str) {
     let best = ico.nearest_cell_brute_force(p);
@@ -32,18 +40,22 @@ fn level_4_random_normals_match_brute_force() {
     } else {
         1_000_000
     };
-    let ga = GaussianAccumulator::new(4).unwrap();
+    let searches = both_searches(4);
     let normals = random_units(2020, count);
+    let ico = searches[0].icosahedron();
+    let n = ico.normals();
     let mismatches: usize = normals
         .par_iter()
-        .filter(|&&p| {
-            let found = ga.find_cell(p);
-            let best = ga.icosahedron().nearest_cell_brute_force(p);
-            let n = ga.icosahedron().normals();
-            found != best && dot(n[found as usize], p) < dot(n[best as usize], p) - TIE
+        .map(|&p| {
+            let best = ico.nearest_cell_brute_force(p);
+            let best_dot = dot(n[best as usize], p);
+            searches
+                .iter()
+                .filter(|ga| dot(n[ga.find_cell(p) as usize], p) < best_dot - TIE)
+                .count()
         })
-        .count();
-    assert_eq!(mismatches, 0, "of {count} normals");
+        .sum();
+    assert_eq!(mismatches, 0, "of {count} normals, both searches");
 }
 
 #[test]
@@ -56,11 +68,13 @@ fn levels_0_to_6_match_brute_force() {
             (true, _) => 300,
             (false, _) => 20_000,
         };
-        let ga = GaussianAccumulator::new(level).unwrap();
+        let [learned, table] = both_searches(level);
         let kd = KdAccumulator::new(level).unwrap();
         let normals = random_units(u64::from(level) + 7, count);
         normals.par_iter().for_each(|&p| {
-            assert_matches_brute_force(ga.icosahedron(), ga.find_cell(p), p, "fastga");
+            let ico = learned.icosahedron();
+            assert_matches_brute_force(ico, learned.find_cell(p), p, "learned index");
+            assert_matches_brute_force(ico, table.find_cell(p), p, "cell table");
             assert_matches_brute_force(kd.icosahedron(), kd.find_cell(p), p, "k-d tree");
         });
     }
@@ -95,12 +109,13 @@ fn poles_seams_and_antipodes_match_brute_force() {
     }
     let antipodes: Vec<[f64; 3]> = probes.iter().map(|p| p.map(|x| -x)).collect();
     probes.extend(antipodes);
-    for level in 0..=6 {
-        let ga = GaussianAccumulator::new(level).unwrap();
+    for ga in (0..=6).flat_map(both_searches) {
+        let level = ga.icosahedron().level();
         let normals = ga.icosahedron().normals();
         for &p in &probes {
             let found = ga.find_cell(p);
             assert_matches_brute_force(ga.icosahedron(), found, p, "seam");
+
             // The icosahedron is centrally symmetric: the antipode's cell is the opposite one.
             let opposite = ga.find_cell(p.map(|x| -x));
             let (a, b) = (normals[found as usize], normals[opposite as usize]);
@@ -157,13 +172,13 @@ fn one_ring_contains_every_voronoi_neighbour() {
     }
 }
 
-/// `integrate` searches in batches; its counts match exhaustive search, `find_cell` and the
-/// k-d tree (random normals hit no ties).
+/// `integrate` searches in batches; with either search its counts match exhaustive search,
+/// `find_cell` and the k-d tree (random normals hit no ties).
 #[test]
 fn integrate_bins_like_brute_force_find_cell_and_the_kd_baseline() {
     let normals = random_units(99, 10_000);
-    for level in [3, 4] {
-        let mut ga = GaussianAccumulator::new(level).unwrap();
+    for mut ga in [3, 4].into_iter().flat_map(both_searches) {
+        let level = ga.icosahedron().level();
         let mut kd = KdAccumulator::new(level).unwrap();
         ga.integrate(&normals, 1.0, Parallelism::Sequential)
             .unwrap();
