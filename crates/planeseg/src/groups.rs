@@ -43,6 +43,26 @@ pub fn assign_groups(
     dominant: &[[f64; 3]],
     config: &SegmentationConfig,
 ) -> Result<(Vec<u32>, GroupCounts), SegmentError> {
+    assign(mesh, dominant, config).map(|a| (a.groups, a.counts))
+}
+
+/// The result of [`assign`].
+pub(crate) struct Assignment {
+    /// Group per triangle.
+    pub groups: Vec<u32>,
+    /// Per grouped triangle, its centroid's offset along its group's dominant normal
+    /// (what the point-to-plane test of region growing compares); 0 for the others.
+    pub offsets: Vec<f64>,
+    pub counts: GroupCounts,
+}
+
+/// [`assign_groups`] with the offsets region growing needs, computed while the
+/// triangle's corners are at hand.
+pub(crate) fn assign(
+    mesh: &HalfEdgeMesh,
+    dominant: &[[f64; 3]],
+    config: &SegmentationConfig,
+) -> Result<Assignment, SegmentError> {
     config.validate()?;
     check_dominant(dominant)?;
     let normals = mesh
@@ -56,13 +76,16 @@ pub fn assign_groups(
     };
     let lookup = NearestLookup::new(dominant);
     let mut groups = vec![NO_GROUP; mesh.num_triangles()];
+    let mut offsets = vec![0.0; mesh.num_triangles()];
     let counts = groups
         .par_chunks_mut(CHUNK)
+        .zip(offsets.par_chunks_mut(CHUNK))
         .zip(mesh.triangles().par_chunks(CHUNK))
         .zip(normals.par_chunks(CHUNK))
-        .map(|((groups, triangles), normals)| {
+        .map(|(((groups, offsets), triangles), normals)| {
             let mut counts = GroupCounts::default();
-            for ((g, tri), n) in groups.iter_mut().zip(triangles).zip(normals) {
+            let items = groups.iter_mut().zip(offsets).zip(triangles).zip(normals);
+            for (((g, offset), tri), n) in items {
                 let [a, b, c] = tri.map(|v| vertices[v as usize]);
                 if dist2(a, b).max(dist2(b, c)).max(dist2(c, a)) > lmax2 {
                     counts.dropped_lmax += 1;
@@ -78,6 +101,7 @@ pub fn assign_groups(
                 }
                 if best_dot >= config.norm_thresh {
                     *g = best;
+                    *offset = centroid_offset(dominant[best as usize], [a, b, c]);
                     counts.grouped += 1;
                 } else {
                     counts.dropped_normal += 1;
@@ -86,7 +110,20 @@ pub fn assign_groups(
             counts
         })
         .reduce(GroupCounts::default, GroupCounts::add);
-    Ok((groups, counts))
+    Ok(Assignment {
+        groups,
+        offsets,
+        counts,
+    })
+}
+
+/// The offset along `normal` of the centroid of the triangle `[a, b, c]`.
+#[inline]
+fn centroid_offset(normal: [f64; 3], [a, b, c]: [[f64; 3]; 3]) -> f64 {
+    (0..3)
+        .map(|k| normal[k] * (a[k] + b[k] + c[k]))
+        .sum::<f64>()
+        / 3.0
 }
 
 /// Cells per cube-face side of [`NearestLookup`].

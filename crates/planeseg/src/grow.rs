@@ -6,7 +6,7 @@ use std::sync::mpsc;
 use halfedge_mesh::{HalfEdgeMesh, NO_TWIN, cross_normal};
 use polyextract::{Extractor, Polygon};
 
-use crate::groups::{GroupCounts, NO_GROUP, assign_groups};
+use crate::groups::{Assignment, GroupCounts, NO_GROUP, assign};
 use crate::{SegmentError, SegmentationConfig};
 
 /// The state of a grouped triangle not yet in a segment: `FREE - g` for group `g`. Once in
@@ -70,7 +70,11 @@ pub fn segment(
     dominant: &[[f64; 3]],
     config: &SegmentationConfig,
 ) -> Result<Segmentation, SegmentError> {
-    let (groups, group_counts) = assign_groups(mesh, dominant, config)?;
+    let Assignment {
+        groups,
+        offsets: centroid_offsets,
+        counts: group_counts,
+    } = assign(mesh, dominant, config)?;
 
     // Bucket the triangles by group (counting sort), keeping triangle order.
     let mut offsets = vec![0usize; dominant.len() + 1];
@@ -100,6 +104,7 @@ pub fn segment(
     let grower = Grower {
         mesh,
         labels,
+        offsets: &centroid_offsets,
         config,
     };
     // Largest groups first, so that the longest task starts at once.
@@ -107,7 +112,6 @@ pub fn segment(
     by_size.sort_by_key(|&g| std::cmp::Reverse(offsets[g + 1] - offsets[g]));
     rayon::scope(|scope| {
         for g in by_size {
-            let normal = &dominant[g];
             let bucket = &order[offsets[g]..offsets[g + 1]];
             if bucket.is_empty() {
                 continue;
@@ -116,18 +120,20 @@ pub fn segment(
             let grower = &grower;
             scope.spawn(move |scope| {
                 let mut grown = 0;
+                let mut region = Region::default();
                 for &seed in bucket {
                     if labels[seed as usize].load(Relaxed) != FREE - g as u32 {
                         continue;
                     }
-                    let (triangles, sums) = grower.grow(g as u32, *normal, seed);
+                    grower.grow(g as u32, seed, &mut region);
                     grown += 1;
-                    if triangles.len() < config.min_triangles.max(1) {
+                    if region.triangles.len() < config.min_triangles.max(1) {
                         continue;
                     }
+                    let region = std::mem::take(&mut region);
                     let sender = sender.clone();
                     scope.spawn(move |_| {
-                        let result = grower.polygon(g as u32, seed, triangles, sums);
+                        let result = grower.polygon(g as u32, seed, region);
                         // The receiver outlives the scope, so sending cannot fail.
                         let _ = sender.send(Outcome::Segment(result));
                     });
@@ -177,63 +183,69 @@ enum Outcome {
     Segment(Result<PlanarSegment, (u32, u32, SegmentError)>),
 }
 
+/// A grown region: its triangles in growing order and its boundary half-edges.
+#[derive(Default)]
+struct Region {
+    triangles: Vec<u32>,
+    boundary: Vec<u32>,
+}
+
 /// Shared, read-mostly state of the growing tasks.
 struct Grower<'a> {
     mesh: &'a HalfEdgeMesh,
     /// Per triangle: `FREE - g` while free in group `g`, the seed once in a segment,
     /// [`NO_GROUP`] if in no group.
     labels: &'a [AtomicU32],
+    /// Per grouped triangle, its centroid's offset along its group's dominant normal.
+    offsets: &'a [f64],
     config: &'a SegmentationConfig,
 }
 
 impl Grower<'_> {
-    fn corners(&self, t: u32) -> [[f64; 3]; 3] {
-        let v = self.mesh.vertices();
-        self.mesh.triangles()[t as usize].map(|i| v[i as usize])
-    }
-
-    /// Grows the segment of group `g` from `seed` (breadth first over twins), labelling
-    /// its triangles with `seed`. Only this group's task touches this group's labels.
-    /// Returns the triangles and their plane sums (accumulated while the corners are at
-    /// hand for the point-to-plane test).
-    fn grow(&self, g: u32, normal: [f64; 3], seed: u32) -> (Vec<u32>, PlaneSums) {
-        let offset = |[a, b, c]: [[f64; 3]; 3]| {
-            (0..3)
-                .map(|k| normal[k] * (a[k] + b[k] + c[k]))
-                .sum::<f64>()
-                / 3.0
+    /// Grows the segment of group `g` from `seed` (breadth first over twins) into
+    /// `region`, labelling its triangles with `seed`. Only this group's task touches this
+    /// group's labels. A neighbour turned away now is never part of the segment (it is
+    /// in another group or segment, or off the seed's plane), so the half-edge towards
+    /// it is a boundary edge; collecting those here spares polygon extraction a pass
+    /// over the triangles.
+    fn grow(&self, g: u32, seed: u32, region: &mut Region) {
+        let Region {
+            triangles,
+            boundary,
+        } = region;
+        triangles.clear();
+        boundary.clear();
+        let plane = self.offsets[seed as usize];
+        let z_thresh = if self.config.z_thresh > 0.0 {
+            self.config.z_thresh
+        } else {
+            f64::INFINITY
         };
-        let mut sums = PlaneSums::default();
-        let seed_corners = self.corners(seed);
-        sums.add(seed_corners);
-        let plane = offset(seed_corners);
-        let z_thresh = self.config.z_thresh;
         let twins = self.mesh.halfedges();
         let free = FREE - g;
         self.labels[seed as usize].store(seed, Relaxed);
-        let mut triangles = vec![seed];
+        triangles.push(seed);
         let mut next = 0;
         while next < triangles.len() {
             let t = triangles[next] as usize;
             next += 1;
-            for &twin in &twins[3 * t..3 * t + 3] {
-                if twin == NO_TWIN {
-                    continue;
+            for (h, &twin) in (3 * t..3 * t + 3).zip(&twins[3 * t..3 * t + 3]) {
+                if twin != NO_TWIN {
+                    let n = (twin / 3) as usize;
+                    let label = self.labels[n].load(Relaxed);
+                    if label == seed {
+                        continue;
+                    }
+                    // Not `> z_thresh`: a NaN offset must fail too.
+                    if label == free && (self.offsets[n] - plane).abs() <= z_thresh {
+                        self.labels[n].store(seed, Relaxed);
+                        triangles.push(n as u32);
+                        continue;
+                    }
                 }
-                let n = twin / 3;
-                if self.labels[n as usize].load(Relaxed) != free {
-                    continue;
-                }
-                let corners = self.corners(n);
-                if z_thresh > 0.0 && (offset(corners) - plane).abs() > z_thresh {
-                    continue;
-                }
-                sums.add(corners);
-                self.labels[n as usize].store(seed, Relaxed);
-                triangles.push(n);
+                boundary.push(h as u32);
             }
         }
-        (triangles, sums)
     }
 
     /// The segment's geometric plane and polygon.
@@ -241,23 +253,16 @@ impl Grower<'_> {
         &self,
         g: u32,
         seed: u32,
-        triangles: Vec<u32>,
-        sums: PlaneSums,
+        region: Region,
     ) -> Result<PlanarSegment, (u32, u32, SegmentError)> {
         let v = self.mesh.vertices();
-        let (normal, centroid) = sums.plane();
+        let (normal, centroid) = geometric_plane(self.mesh, &region.triangles);
         let (e1, e2) = plane_axes(normal);
-        let labels = self.labels;
         let mut polygon = Extractor::new()
-            .extract(
-                self.mesh,
-                &triangles,
-                |t| labels[t as usize].load(Relaxed) == seed,
-                |i| {
-                    let p = v[i as usize];
-                    [dot(p, e1), dot(p, e2)]
-                },
-            )
+            .extract_boundary(self.mesh, &region.boundary, |i| {
+                let p = v[i as usize];
+                [dot(p, e1), dot(p, e2)]
+            })
             .map_err(|source| (g, seed, SegmentError::Extract { seed, source }))?;
         let before = polygon.holes.len();
         polygon
@@ -266,7 +271,7 @@ impl Grower<'_> {
         Ok(PlanarSegment {
             group: g,
             seed,
-            triangles,
+            triangles: region.triangles,
             normal,
             centroid,
             holes_too_small: before - polygon.holes.len(),

@@ -138,10 +138,66 @@ impl Extractor {
             return Err(ExtractError::EmptyRegion);
         }
         self.collect_boundary(mesh, triangles, &is_member)?;
+        self.follow(mesh, triangles[0], project)
+    }
+
+    /// As [`Self::extract`], for a region given by its boundary half-edges (those whose
+    /// twin is missing or outside the region), in any order. Callers that find the
+    /// boundary while growing the region skip the pass over its triangles.
+    ///
+    /// ```
+    /// use halfedge_mesh::{HalfEdgeMesh, NO_TWIN};
+    /// use polyextract::Extractor;
+    ///
+    /// let points: Vec<[f64; 2]> = (0..16).map(|i| [(i % 4) as f64, (i / 4) as f64]).collect();
+    /// let mesh = HalfEdgeMesh::delaunay_2d(&points)?;
+    /// let boundary: Vec<u32> = (0..mesh.halfedges().len() as u32)
+    ///     .filter(|&h| mesh.halfedges()[h as usize] == NO_TWIN)
+    ///     .collect();
+    /// let polygon = Extractor::new().extract_boundary(&mesh, &boundary, |i| points[i as usize])?;
+    /// assert_eq!(polygon.shell.len(), 12);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    ///
+    /// # Errors
+    /// See [`ExtractError`]; a half-edge out of range gives
+    /// [`ExtractError::TriangleOutOfRange`] for its triangle.
+    pub fn extract_boundary(
+        &mut self,
+        mesh: &HalfEdgeMesh,
+        boundary: &[u32],
+        project: impl Fn(u32) -> [f64; 2],
+    ) -> Result<Polygon, ExtractError> {
+        let Some(&first) = boundary.first() else {
+            return Err(ExtractError::NoBoundary);
+        };
+        let tris = mesh.triangles();
+        self.edges.clear();
+        for &h in boundary {
+            let Some(tri) = tris.get(h as usize / 3) else {
+                return Err(ExtractError::TriangleOutOfRange {
+                    triangle: h / 3,
+                    num_triangles: tris.len(),
+                });
+            };
+            self.edges.push(boundary_edge(tri, h));
+        }
+        self.sort_edges();
+        self.follow(mesh, first / 3, project)
+    }
+
+    /// Follows the rings of the collected boundary: the shell from the extreme point,
+    /// then the holes. `triangle` is any triangle of the region (for the mirror test).
+    fn follow(
+        &mut self,
+        mesh: &HalfEdgeMesh,
+        triangle: u32,
+        project: impl Fn(u32) -> [f64; 2],
+    ) -> Result<Polygon, ExtractError> {
         if self.edges.is_empty() {
             return Err(ExtractError::NoBoundary);
         }
-        let mirror = frame_is_mirrored(mesh, triangles[0], &project);
+        let mirror = frame_is_mirrored(mesh, triangle, &project);
         let project = |i: u32| {
             let [x, y] = project(i);
             if mirror { [-x, y] } else { [x, y] }
@@ -202,18 +258,19 @@ impl Extractor {
                 let h = 3 * t + i as u32;
                 let twin = twins[h as usize];
                 if twin == NO_TWIN || !is_member(twin / 3) {
-                    self.edges.push(BoundaryEdge {
-                        origin: tri[i],
-                        halfedge: h,
-                        destination: tri[(i + 1) % 3],
-                    });
+                    self.edges.push(boundary_edge(tri, h));
                 }
             }
         }
+        self.sort_edges();
+        Ok(())
+    }
+
+    /// Sorts the boundary edges by origin point and marks them all unused.
+    fn sort_edges(&mut self) {
         self.edges.sort_unstable();
         self.used.clear();
         self.used.resize(self.edges.len(), false);
-        Ok(())
     }
 
     /// Follows one ring from boundary edge `first` until it returns to its origin,
@@ -272,6 +329,17 @@ impl Extractor {
             }
         }
         Some(best.0)
+    }
+}
+
+/// The boundary edge of half-edge `h` of triangle `tri`.
+#[inline]
+fn boundary_edge(tri: &[u32; 3], h: u32) -> BoundaryEdge {
+    let i = h as usize % 3;
+    BoundaryEdge {
+        origin: tri[i],
+        halfedge: h,
+        destination: tri[(i + 1) % 3],
     }
 }
 

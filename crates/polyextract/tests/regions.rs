@@ -3,8 +3,8 @@
 //! of the region's triangles.
 
 use geo::{Area, LineString, Polygon as GeoPolygon, Validation, Winding};
-use halfedge_mesh::HalfEdgeMesh;
-use polyextract::{ExtractError, Polygon, extract_polygon};
+use halfedge_mesh::{HalfEdgeMesh, NO_TWIN};
+use polyextract::{ExtractError, Extractor, Polygon, extract_polygon};
 use proptest::prelude::*;
 
 /// A `w × h` grid of unit cells; cell (r, c) has triangles 2k and 2k + 1, k = r·w + c,
@@ -95,6 +95,25 @@ fn check_all(mesh: &HalfEdgeMesh, keep: &[bool]) -> usize {
             },
         )
         .unwrap();
+        // The same region given by its boundary half-edges, listed backwards, must give
+        // the same polygon.
+        let twins = mesh.halfedges();
+        let boundary: Vec<u32> = region
+            .iter()
+            .rev()
+            .flat_map(|&t| (3 * t..3 * t + 3).rev())
+            .filter(|&h| {
+                let twin = twins[h as usize];
+                twin == NO_TWIN || !members.contains(&(twin / 3))
+            })
+            .collect();
+        let from_boundary = Extractor::new()
+            .extract_boundary(mesh, &boundary, |i| {
+                let p = mesh.vertices()[i as usize];
+                [p[0], p[1]]
+            })
+            .unwrap();
+        assert_eq!(from_boundary, polygon);
         let geo_polygon = to_geo(mesh, &polygon);
         assert!(
             geo_polygon.is_valid(),
@@ -180,6 +199,20 @@ fn errors_are_reported() {
     assert!(matches!(
         extract_polygon(&mesh, &[0], |_| true, |_| [f64::NAN, 0.0]),
         Err(ExtractError::NonFinitePoint { .. })
+    ));
+    let mut extractor = Extractor::new();
+    assert_eq!(
+        extractor.extract_boundary(&mesh, &[], project),
+        Err(ExtractError::NoBoundary)
+    );
+    assert!(matches!(
+        extractor.extract_boundary(&mesh, &[3 * 99], project),
+        Err(ExtractError::TriangleOutOfRange { triangle: 99, .. })
+    ));
+    // Half of a boundary: the ring cannot close.
+    assert!(matches!(
+        extractor.extract_boundary(&mesh, &[0], project),
+        Err(ExtractError::BrokenBoundary { .. })
     ));
 }
 
