@@ -138,7 +138,7 @@ impl Extractor {
             return Err(ExtractError::EmptyRegion);
         }
         self.collect_boundary(mesh, triangles, &is_member)?;
-        self.follow(mesh, triangles[0], project)
+        self.follow(mesh, project)
     }
 
     /// As [`Self::extract`], for a region given by its boundary half-edges (those whose
@@ -168,9 +168,6 @@ impl Extractor {
         boundary: &[u32],
         project: impl Fn(u32) -> [f64; 2],
     ) -> Result<Polygon, ExtractError> {
-        let Some(&first) = boundary.first() else {
-            return Err(ExtractError::NoBoundary);
-        };
         let tris = mesh.triangles();
         self.edges.clear();
         for &h in boundary {
@@ -183,21 +180,21 @@ impl Extractor {
             self.edges.push(boundary_edge(tri, h));
         }
         self.sort_edges();
-        self.follow(mesh, first / 3, project)
+        self.follow(mesh, project)
     }
 
     /// Follows the rings of the collected boundary: the shell from the extreme point,
-    /// then the holes. `triangle` is any triangle of the region (for the mirror test).
+    /// then the holes.
     fn follow(
         &mut self,
         mesh: &HalfEdgeMesh,
-        triangle: u32,
         project: impl Fn(u32) -> [f64; 2],
     ) -> Result<Polygon, ExtractError> {
         if self.edges.is_empty() {
             return Err(ExtractError::NoBoundary);
         }
-        let mirror = frame_is_mirrored(mesh, triangle, &project);
+        // Any triangle of the region tells the frame's handedness; take a boundary one.
+        let mirror = frame_is_mirrored(mesh, self.edges[0].halfedge / 3, &project);
         let project = |i: u32| {
             let [x, y] = project(i);
             if mirror { [-x, y] } else { [x, y] }
