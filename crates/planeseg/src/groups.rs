@@ -1,6 +1,6 @@
 //! Group assignment (Alg. 4).
 
-use halfedge_mesh::HalfEdgeMesh;
+use halfedge_mesh::{HalfEdgeMesh, cross_normal};
 use rayon::prelude::*;
 
 use crate::{SegmentError, SegmentationConfig};
@@ -53,11 +53,19 @@ pub(crate) struct Assignment {
     /// Per grouped triangle, its centroid's offset along its group's dominant normal
     /// (what the point-to-plane test of region growing compares); 0 for the others.
     pub offsets: Vec<f64>,
+    /// Per grouped triangle, `det(a − r, b − r, c − r)` for its corners `a, b, c` and the
+    /// mesh's [`reference`](Self::reference) point `r`: six times the signed volume of
+    /// the tetrahedron the triangle spans with `r`, the one per-triangle term of a
+    /// segment's centroid (see [`crate::grow`]); 0 for the others.
+    pub volumes: Vec<f32>,
+    /// The point the volumes are taken from: a corner of the mesh's first triangle with
+    /// finite corners, so that coordinates relative to it stay small.
+    pub reference: [f64; 3],
     pub counts: GroupCounts,
 }
 
-/// [`assign_groups`] with the offsets region growing needs, computed while the
-/// triangle's corners are at hand.
+/// [`assign_groups`] with what region growing and the segment planes need, computed
+/// while the triangle's corners are at hand.
 pub(crate) fn assign(
     mesh: &HalfEdgeMesh,
     dominant: &[[f64; 3]],
@@ -74,34 +82,39 @@ pub(crate) fn assign(
     } else {
         f64::INFINITY
     };
+    let reference = reference_point(mesh);
     let lookup = NearestLookup::new(dominant);
     let mut groups = vec![NO_GROUP; mesh.num_triangles()];
     let mut offsets = vec![0.0; mesh.num_triangles()];
+    let mut volumes = vec![0.0; mesh.num_triangles()];
     let counts = groups
         .par_chunks_mut(CHUNK)
         .zip(offsets.par_chunks_mut(CHUNK))
+        .zip(volumes.par_chunks_mut(CHUNK))
         .zip(mesh.triangles().par_chunks(CHUNK))
         .zip(normals.par_chunks(CHUNK))
-        .map(|(((groups, offsets), triangles), normals)| {
+        .map(|((((groups, offsets), volumes), triangles), normals)| {
             let mut counts = GroupCounts::default();
-            let items = groups.iter_mut().zip(offsets).zip(triangles).zip(normals);
-            for (((g, offset), tri), n) in items {
-                let [a, b, c] = tri.map(|v| vertices[v as usize]);
+            // Neighbouring triangles mostly share a group: try the last one first.
+            let mut last = 0;
+            let items = groups.iter_mut().zip(offsets).zip(volumes);
+            for (((g, offset), volume), (tri, n)) in items.zip(triangles.iter().zip(normals)) {
+                let [a, b, c] = corners(vertices, *tri);
                 if dist2(a, b).max(dist2(b, c)).max(dist2(c, a)) > lmax2 {
                     counts.dropped_lmax += 1;
                     continue;
                 }
-                let (mut best, mut best_dot) = (NO_GROUP, f64::NEG_INFINITY);
-                for &j in lookup.candidates(*n) {
-                    let d = dominant[j as usize];
-                    let dot = n[0] * d[0] + n[1] * d[1] + n[2] * d[2];
-                    if dot > best_dot {
-                        (best, best_dot) = (j, dot);
-                    }
-                }
+                let (best, best_dot) = match lookup.sure_nearest(*n, last) {
+                    Some(dot) => (last, dot),
+                    None => lookup.nearest(*n, dominant),
+                };
                 if best_dot >= config.norm_thresh {
+                    last = best;
                     *g = best;
-                    *offset = centroid_offset(dominant[best as usize], [a, b, c]);
+                    let d = dominant[best as usize];
+                    *offset = dot(d, sum3(a, b, c)) * (1.0 / 3.0);
+                    let [a, b, c] = [sub(a, reference), sub(b, reference), sub(c, reference)];
+                    *volume = dot(cross_normal(a, b, c), a) as f32;
                     counts.grouped += 1;
                 } else {
                     counts.dropped_normal += 1;
@@ -113,17 +126,45 @@ pub(crate) fn assign(
     Ok(Assignment {
         groups,
         offsets,
+        volumes,
+        reference,
         counts,
     })
 }
 
-/// The offset along `normal` of the centroid of the triangle `[a, b, c]`.
+/// A corner of the first triangle whose corners are all finite (the origin if none).
+fn reference_point(mesh: &HalfEdgeMesh) -> [f64; 3] {
+    let v = mesh.vertices();
+    mesh.triangles()
+        .iter()
+        .map(|&t| corners(v, t))
+        .find(|corners| corners.iter().flatten().all(|x| x.is_finite()))
+        .map_or([0.0; 3], |[a, _, _]| a)
+}
+
+/// The corners of triangle `t`.
 #[inline]
-fn centroid_offset(normal: [f64; 3], [a, b, c]: [[f64; 3]; 3]) -> f64 {
-    (0..3)
-        .map(|k| normal[k] * (a[k] + b[k] + c[k]))
-        .sum::<f64>()
-        / 3.0
+pub(crate) fn corners(vertices: &[[f64; 3]], t: [u32; 3]) -> [[f64; 3]; 3] {
+    [
+        vertices[t[0] as usize],
+        vertices[t[1] as usize],
+        vertices[t[2] as usize],
+    ]
+}
+
+#[inline]
+fn sum3(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> [f64; 3] {
+    [a[0] + b[0] + c[0], a[1] + b[1] + c[1], a[2] + b[2] + c[2]]
+}
+
+#[inline]
+pub(crate) fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+#[inline]
+pub(crate) fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
 /// Cells per cube-face side of [`NearestLookup`].
@@ -137,10 +178,17 @@ const CUBE_CELLS: usize = 32;
 /// normal `j` unless `angle(c, d_j) − r > min_k angle(c, d_k) + r`, in which case every
 /// direction in the cell is nearer to that `d_k` than to `d_j`. The scan over the
 /// candidates in index order then picks what a scan over all normals picks.
+///
+/// Before that, [`Self::sure_nearest`] settles most triangles with one dot product: a
+/// direction within half the angle from `d_j` to its closest other dominant normal is
+/// strictly nearer to `d_j` than to any other (triangle inequality on the sphere).
 struct NearestLookup {
     /// Start of each cell's candidates in `candidates` (one more entry than cells).
     offsets: Vec<u32>,
     candidates: Vec<u32>,
+    /// Per dominant normal `j`, `(d_j, c_j)`: a direction whose dot product with `d_j`
+    /// exceeds `c_j` has `d_j` as its strictly nearest dominant normal.
+    sure: Vec<([f64; 3], f64)>,
 }
 
 impl NearestLookup {
@@ -179,10 +227,48 @@ impl NearestLookup {
                 }
             }
         }
+        let sure = dominant
+            .iter()
+            .enumerate()
+            .map(|(j, &d)| {
+                let closest = dominant
+                    .iter()
+                    .enumerate()
+                    .filter(|&(k, _)| k != j)
+                    .map(|(_, &e)| angle(d, e))
+                    .fold(std::f64::consts::PI, f64::min);
+                // The margin covers the rounding of the dot products compared.
+                (d, (0.5 * closest).cos() + 1e-9)
+            })
+            .collect();
         Self {
             offsets,
             candidates,
+            sure,
         }
+    }
+
+    /// `Some(dot(n, d_j))` if `d_j` is certainly the nearest dominant normal to `n`
+    /// ; `None` if that takes [`Self::nearest`] (or `j` is out of range).
+    #[inline]
+    fn sure_nearest(&self, n: [f64; 3], j: u32) -> Option<f64> {
+        let &(d, limit) = self.sure.get(j as usize)?;
+        let dot = dot(n, d);
+        (dot > limit).then_some(dot)
+    }
+
+    /// The nearest of the `dominant` normals to `n` (the lowest index on a tie) and its
+    /// dot product; `(NO_GROUP, −∞)` for a NaN `n`.
+    #[inline]
+    fn nearest(&self, n: [f64; 3], dominant: &[[f64; 3]]) -> (u32, f64) {
+        let (mut best, mut best_dot) = (NO_GROUP, f64::NEG_INFINITY);
+        for &j in self.candidates(n) {
+            let dot = dot(n, dominant[j as usize]);
+            if dot > best_dot {
+                (best, best_dot) = (j, dot);
+            }
+        }
+        (best, best_dot)
     }
 
     /// The candidates for direction `d` (any length; NaN gives an empty list).

@@ -6,7 +6,7 @@ use std::sync::mpsc;
 use halfedge_mesh::{HalfEdgeMesh, NO_TWIN, cross_normal};
 use polyextract::{Extractor, Polygon};
 
-use crate::groups::{Assignment, GroupCounts, NO_GROUP, assign};
+use crate::groups::{Assignment, GroupCounts, NO_GROUP, assign, dot};
 use crate::{SegmentError, SegmentationConfig};
 
 /// The state of a grouped triangle not yet in a segment: `FREE - g` for group `g`. Once in
@@ -73,6 +73,8 @@ pub fn segment(
     let Assignment {
         groups,
         offsets: centroid_offsets,
+        volumes,
+        reference,
         counts: group_counts,
     } = assign(mesh, dominant, config)?;
 
@@ -105,6 +107,8 @@ pub fn segment(
         mesh,
         labels,
         offsets: &centroid_offsets,
+        volumes: &volumes,
+        reference,
         config,
     };
     // Largest groups first, so that the longest task starts at once.
@@ -198,6 +202,9 @@ struct Grower<'a> {
     labels: &'a [AtomicU32],
     /// Per grouped triangle, its centroid's offset along its group's dominant normal.
     offsets: &'a [f64],
+    /// Per grouped triangle, six times the signed volume it spans with `reference`.
+    volumes: &'a [f32],
+    reference: [f64; 3],
     config: &'a SegmentationConfig,
 }
 
@@ -256,7 +263,13 @@ impl Grower<'_> {
         region: Region,
     ) -> Result<PlanarSegment, (u32, u32, SegmentError)> {
         let v = self.mesh.vertices();
-        let (normal, centroid) = geometric_plane(self.mesh, &region.triangles);
+        let volume: f64 = region
+            .triangles
+            .iter()
+            .map(|&t| f64::from(self.volumes[t as usize]))
+            .sum();
+        let (normal, centroid) =
+            boundary_plane(self.mesh, &region.boundary, volume, self.reference);
         let (e1, e2) = plane_axes(normal);
         let mut polygon = Extractor::new()
             .extract_boundary(self.mesh, &region.boundary, |i| {
@@ -280,9 +293,10 @@ impl Grower<'_> {
     }
 }
 
-/// The geometric plane of a set of triangles: the area-weighted mean of their unit normals
-/// (unit; it faces the side the triangles are counter-clockwise from) and their
-/// area-weighted centroid.
+/// The geometric plane of a set of triangles: the unit normal `N / |N|` of their vector
+/// area `N = Σ (b − a) × (c − a)` (the area-weighted mean of their normals, facing the side
+/// they are counter-clockwise from), and the mean of their centroids weighted by their
+/// areas projected on that plane. Zeros when the triangles have no area.
 ///
 /// ```
 /// use halfedge_mesh::HalfEdgeMesh;
@@ -297,52 +311,94 @@ impl Grower<'_> {
 /// ```
 pub fn geometric_plane(mesh: &HalfEdgeMesh, triangles: &[u32]) -> ([f64; 3], [f64; 3]) {
     let v = mesh.vertices();
-    let mut sums = PlaneSums::default();
+    let corners = |t: u32| mesh.triangles()[t as usize].map(|i| v[i as usize]);
+    let mut area = [0.0; 3];
     for &t in triangles {
-        sums.add(mesh.triangles()[t as usize].map(|i| v[i as usize]));
+        let [a, b, c] = corners(t);
+        add(&mut area, cross_normal(a, b, c));
     }
-    sums.plane()
+    let Some(normal) = unit(area) else {
+        return ([0.0; 3], [0.0; 3]);
+    };
+    let (mut weighted, mut total) = ([0.0; 3], 0.0);
+    for &t in triangles {
+        let [a, b, c] = corners(t);
+        let w = dot(cross_normal(a, b, c), normal);
+        add(
+            &mut weighted,
+            [0, 1, 2].map(|k| w * (a[k] + b[k] + c[k]) / 3.0),
+        );
+        total += w;
+    }
+    if !(total > 0.0) {
+        return ([0.0; 3], [0.0; 3]);
+    }
+    (normal, weighted.map(|x| x / total))
 }
 
-/// Running sums behind a geometric plane: area-weighted normal and centroid.
-#[derive(Debug, Clone, Copy, Default)]
-struct PlaneSums {
-    /// Sum of the triangles' cross products (twice their area times their unit normal).
-    normal: [f64; 3],
-    /// Sum of the centroids weighted by twice the area.
-    centroid: [f64; 3],
-    /// Twice the total area.
-    area: f64,
+/// [`geometric_plane`] of a region from its boundary half-edges and `volume`, the sum over
+/// its triangles `a, b, c` of `det(a − r, b − r, c − r)` for the point `reference` = `r`.
+///
+/// With corners taken relative to `r`, a triangle's vector area is the sum of `p × q` over
+/// its edges `p → q`, and `(a + b + c) ⊗ ((b − a) × (c − a))` is the sum over its edges of
+/// `(p + q) ⊗ (p × q)` plus `det(a, b, c)` times the identity. Inside the region every
+/// edge appears once in each direction and cancels, so both sums over the triangles are
+/// sums over the boundary edges, plus `volume` times the identity for the second: the
+/// plane costs a pass over the boundary and one number per triangle.
+fn boundary_plane(
+    mesh: &HalfEdgeMesh,
+    boundary: &[u32],
+    volume: f64,
+    reference: [f64; 3],
+) -> ([f64; 3], [f64; 3]) {
+    let v = mesh.vertices();
+    let relative = |i: u32| {
+        let p = v[i as usize];
+        [0, 1, 2].map(|k| p[k] - reference[k])
+    };
+    let mut area = [0.0; 3];
+    // moment[k] = Σ (p + q)[k] (p × q), so that Σ (p + q) ((p × q) · n) = moment · n.
+    let mut moment = [[0.0; 3]; 3];
+    for &h in boundary {
+        let (p, q) = (relative(mesh.origin(h)), relative(mesh.destination(h)));
+        let pq = cross(p, q);
+        add(&mut area, pq);
+        for (row, (pk, qk)) in moment.iter_mut().zip(p.into_iter().zip(q)) {
+            add(row, pq.map(|x| (pk + qk) * x));
+        }
+    }
+    let Some(normal) = unit(area) else {
+        return ([0.0; 3], [0.0; 3]);
+    };
+    let total = dot(area, normal);
+    if !(total > 0.0) {
+        return ([0.0; 3], [0.0; 3]);
+    }
+    let centroid = [0, 1, 2]
+        .map(|k| reference[k] + (dot(moment[k], normal) + volume * normal[k]) / (3.0 * total));
+    (normal, centroid)
 }
 
-impl PlaneSums {
-    #[inline]
-    fn add(&mut self, [a, b, c]: [[f64; 3]; 3]) {
-        let n = cross_normal(a, b, c);
-        let w = dot(n, n).sqrt();
-        for k in 0..3 {
-            self.normal[k] += n[k];
-            self.centroid[k] += w * (a[k] + b[k] + c[k]) / 3.0;
-        }
-        self.area += w;
-    }
+/// `v / |v|`, or `None` for a zero or non-finite length.
+fn unit(v: [f64; 3]) -> Option<[f64; 3]> {
+    let len = dot(v, v).sqrt();
+    (len > 0.0 && len.is_finite()).then(|| v.map(|c| c / len))
+}
 
-    /// Unit normal and centroid; zeros when the triangles have no area.
-    fn plane(&self) -> ([f64; 3], [f64; 3]) {
-        let len = dot(self.normal, self.normal).sqrt();
-        if !(len > 0.0 && self.area > 0.0) {
-            return ([0.0; 3], [0.0; 3]);
-        }
-        (
-            self.normal.map(|c| c / len),
-            self.centroid.map(|c| c / self.area),
-        )
+#[inline]
+fn add(sum: &mut [f64; 3], v: [f64; 3]) {
+    for (s, x) in sum.iter_mut().zip(v) {
+        *s += x;
     }
 }
 
 #[inline]
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
 }
 
 /// Two unit vectors completing the unit `n` to a right-handed orthonormal frame.
@@ -358,10 +414,6 @@ fn plane_axes(n: [f64; 3]) -> ([f64; 3], [f64; 3]) {
     let e1 = [axis[0] - d * n[0], axis[1] - d * n[1], axis[2] - d * n[2]];
     let l = dot(e1, e1).sqrt();
     let e1 = e1.map(|c| c / l);
-    let e2 = [
-        n[1] * e1[2] - n[2] * e1[1],
-        n[2] * e1[0] - n[0] * e1[2],
-        n[0] * e1[1] - n[1] * e1[0],
-    ];
+    let e2 = cross(n, e1);
     (e1, e2)
 }

@@ -2,14 +2,22 @@
 //! many dominant normals, at several thread counts, and with bad input.
 
 use halfedge_mesh::{HalfEdgeMesh, NO_TWIN};
-use planeseg::{NO_GROUP, SegmentError, SegmentationConfig, assign_groups, segment};
+use planeseg::{
+    NO_GROUP, SegmentError, SegmentationConfig, assign_groups, geometric_plane, segment,
+};
 use proptest::prelude::*;
 
 /// A height field on an `n × n` grid of unit cells, triangulated as a user mesh.
 fn terrain(n: usize, height: impl Fn(usize, usize) -> f64) -> HalfEdgeMesh {
+    terrain_at(n, [0.0; 3], height)
+}
+
+/// [`terrain`] moved by `origin`.
+fn terrain_at(n: usize, origin: [f64; 3], height: impl Fn(usize, usize) -> f64) -> HalfEdgeMesh {
     let vertices = (0..=n)
         .flat_map(|r| (0..=n).map(move |c| (r, c)))
         .map(|(r, c)| [c as f64, r as f64, height(r, c)])
+        .map(|p| [0, 1, 2].map(|k| origin[k] + p[k]))
         .collect();
     let id = |r: usize, c: usize| (r * (n + 1) + c) as u32;
     let mut triangles = Vec::new();
@@ -224,6 +232,28 @@ proptest! {
             let found = pool.install(|| segment(&mesh, &dominant, &config)).unwrap();
             let got: Vec<(u32, Vec<u32>)> = found.segments.iter().map(|s| (s.group, s.triangles.clone())).collect();
             prop_assert_eq!(&got, &expected);
+        }
+    }
+
+    /// Segments compute their plane from their boundary and one number per triangle; it is
+    /// the plane `geometric_plane` computes from all their triangles, also far from the
+    /// origin (georeferenced coordinates).
+    #[test]
+    fn segment_planes_match_geometric_plane(
+        heights in proptest::collection::vec(0.0f64..1.0, 25 * 25),
+        roughness in 0.0f64..1.5,
+        far in proptest::bool::ANY,
+    ) {
+        let origin = if far { [4.5e5, 5.2e6, 310.0] } else { [0.0; 3] };
+        let mesh = terrain_at(24, origin, |r, c| roughness * heights[r * 25 + c]);
+        let dominant = [[0.0, 0.0, 1.0], [0.6, 0.0, 0.8], [0.0, -0.6, 0.8]];
+        let config = SegmentationConfig::new().with_min_triangles(3).with_z_thresh(0.3).with_norm_thresh(0.8);
+        for s in segment(&mesh, &dominant, &config).unwrap().segments {
+            let (normal, centroid) = geometric_plane(&mesh, &s.triangles);
+            for k in 0..3 {
+                prop_assert!((s.normal[k] - normal[k]).abs() < 1e-9, "{:?} vs {:?}", s.normal, normal);
+                prop_assert!((s.centroid[k] - centroid[k]).abs() < 1e-6, "{:?} vs {:?}", s.centroid, centroid);
+            }
         }
     }
 }
