@@ -1,8 +1,11 @@
 //! Group assignment (Alg. 4).
 
-use halfedge_mesh::{HalfEdgeMesh, cross_normal};
+use std::sync::atomic::AtomicU32;
+
+use halfedge_mesh::HalfEdgeMesh;
 use rayon::prelude::*;
 
+use crate::vec3::{Vec3, add, corners, cross, dot, scale, sub};
 use crate::{SegmentError, SegmentationConfig};
 
 /// Group of a triangle that takes part in no segment.
@@ -50,22 +53,60 @@ pub fn assign_groups(
 pub(crate) struct Assignment {
     /// Group per triangle.
     pub groups: Vec<u32>,
-    /// Per grouped triangle, its centroid's offset along its group's dominant normal
-    /// (what the point-to-plane test of region growing compares); 0 for the others.
-    pub offsets: Vec<f64>,
-    /// Per grouped triangle, `det(a − r, b − r, c − r)` for its corners `a, b, c` and the
-    /// mesh's [`reference`](Self::reference) point `r`: six times the signed volume of
-    /// the tetrahedron the triangle spans with `r`, the one per-triangle term of a
-    /// segment's centroid (see [`crate::grow`]); 0 for the others.
-    pub volumes: Vec<f32>,
+    /// What region growing reads of each triangle, in one place.
+    pub slots: Vec<Slot>,
     /// The point the volumes are taken from: a corner of the mesh's first triangle with
     /// finite corners, so that coordinates relative to it stay small.
     pub reference: [f64; 3],
+    /// The grouped triangles by group, in triangle order: `buckets[c][g]` lists those of
+    /// group `g` among triangles `c · CHUNK ..`, so that group `g`'s triangles are the
+    /// concatenation of `buckets[..][g]`.
+    pub buckets: Vec<Vec<Vec<u32>>>,
     pub counts: GroupCounts,
 }
 
+/// The state of a grouped triangle not yet in a segment: `FREE - g` for group `g`. Once in
+/// a segment the state is the segment's seed, a triangle index; triangle indices stay below
+/// `u32::MAX / 3` (half-edge indices are `u32`), far from these values. One word per
+/// triangle answers "is it free and in my group" with a single load.
+pub(crate) const FREE: u32 = u32::MAX - 2;
+
+/// The group [`assign`] gives a triangle dropped by the `lmax` test until it counts the
+/// drops and replaces it by [`NO_GROUP`].
+const DROPPED_LMAX: u32 = u32::MAX - 1;
+
+/// Per triangle, all that region growing reads of a neighbour, so that visiting it costs
+/// one cache line.
+#[derive(Debug)]
+pub(crate) struct Slot {
+    /// `FREE - g` while free in group `g`, the seed once in a segment, [`NO_GROUP`] if in
+    /// no group. Only the task of group `g` writes the labels of its triangles; the others
+    /// only read them.
+    pub label: AtomicU32,
+    /// `det(a − r, b − r, c − r)` for the corners `a, b, c` and the
+    /// [`reference`](Assignment::reference) point `r`: six times the signed volume of
+    /// the tetrahedron the triangle spans with `r`, the one per-triangle term of a
+    /// segment's centroid (see `boundary_plane`); 0 if in no group.
+    pub volume: f32,
+    /// The offset of the centroid along the group's dominant normal, what the
+    /// point-to-plane test of region growing compares; 0 if in no group.
+    pub offset: f64,
+}
+
+impl Slot {
+    /// The slot of a triangle in no group.
+    fn none() -> Self {
+        Self {
+            label: AtomicU32::new(NO_GROUP),
+            volume: 0.0,
+            offset: 0.0,
+        }
+    }
+}
+
 /// [`assign_groups`] with what region growing and the segment planes need, computed
-/// while the triangle's corners are at hand.
+/// while the triangle's corners are at hand. Every output array is written once, in
+/// parallel: this pass moves more memory than it computes.
 pub(crate) fn assign(
     mesh: &HalfEdgeMesh,
     dominant: &[[f64; 3]],
@@ -84,52 +125,79 @@ pub(crate) fn assign(
     };
     let reference = reference_point(mesh);
     let lookup = NearestLookup::new(dominant);
-    let mut groups = vec![NO_GROUP; mesh.num_triangles()];
-    let mut offsets = vec![0.0; mesh.num_triangles()];
-    let mut volumes = vec![0.0; mesh.num_triangles()];
-    let counts = groups
-        .par_chunks_mut(CHUNK)
-        .zip(offsets.par_chunks_mut(CHUNK))
-        .zip(volumes.par_chunks_mut(CHUNK))
-        .zip(mesh.triangles().par_chunks(CHUNK))
-        .zip(normals.par_chunks(CHUNK))
-        .map(|((((groups, offsets), volumes), triangles), normals)| {
-            let mut counts = GroupCounts::default();
-            // Neighbouring triangles mostly share a group: try the last one first.
-            let mut last = 0;
-            let items = groups.iter_mut().zip(offsets).zip(volumes);
-            for (((g, offset), volume), (tri, n)) in items.zip(triangles.iter().zip(normals)) {
+    let mut groups = Vec::new();
+    let mut slots = Vec::new();
+    mesh.triangles()
+        .par_iter()
+        .zip(normals)
+        .with_min_len(CHUNK)
+        // Neighbouring triangles mostly share a group: try the last one first.
+        .map_init(
+            || 0,
+            |last, (tri, n)| {
                 let [a, b, c] = corners(vertices, *tri);
-                if dist2(a, b).max(dist2(b, c)).max(dist2(c, a)) > lmax2 {
-                    counts.dropped_lmax += 1;
-                    continue;
+                let (u, v, w) = (sub(b, a), sub(c, a), sub(c, b));
+                if dot(u, u).max(dot(v, v)).max(dot(w, w)) > lmax2 {
+                    return (DROPPED_LMAX, Slot::none());
                 }
-                let (best, best_dot) = match lookup.sure_nearest(*n, last) {
-                    Some(dot) => (last, dot),
+                let (best, best_dot) = match lookup.sure_nearest(*n, *last) {
+                    Some(dot) => (*last, dot),
                     None => lookup.nearest(*n, dominant),
                 };
-                if best_dot >= config.norm_thresh {
-                    last = best;
-                    *g = best;
-                    let d = dominant[best as usize];
-                    *offset = dot(d, sum3(a, b, c)) * (1.0 / 3.0);
-                    let [a, b, c] = [sub(a, reference), sub(b, reference), sub(c, reference)];
-                    *volume = dot(cross_normal(a, b, c), a) as f32;
-                    counts.grouped += 1;
-                } else {
-                    counts.dropped_normal += 1;
+                // Also drops a NaN similarity.
+                if best_dot
+                    .partial_cmp(&config.norm_thresh)
+                    .is_none_or(|o| o.is_lt())
+                {
+                    return (NO_GROUP, Slot::none());
                 }
-            }
-            counts
-        })
-        .reduce(GroupCounts::default, GroupCounts::add);
+                *last = best;
+                let centroid = add(a, scale(add(u, v), 1.0 / 3.0));
+                let slot = Slot {
+                    label: AtomicU32::new(FREE - best),
+                    volume: dot(cross(u, v), sub(a, reference)) as f32,
+                    offset: dot(dominant[best as usize], centroid),
+                };
+                (best, slot)
+            },
+        )
+        .unzip_into_vecs(&mut groups, &mut slots);
+    let (buckets, counts): (Vec<_>, Vec<_>) = groups
+        .par_chunks_mut(CHUNK)
+        .enumerate()
+        .map(|(c, chunk)| bucket(chunk, c * CHUNK, dominant.len()))
+        .unzip();
+    let counts = counts
+        .into_iter()
+        .fold(GroupCounts::default(), GroupCounts::add);
     Ok(Assignment {
         groups,
-        offsets,
-        volumes,
+        slots,
         reference,
+        buckets,
         counts,
     })
+}
+
+/// Lists the triangles of `chunk` (the first is triangle `first`) by group, counts them
+/// and replaces [`DROPPED_LMAX`] by [`NO_GROUP`].
+fn bucket(chunk: &mut [u32], first: usize, groups: usize) -> (Vec<Vec<u32>>, GroupCounts) {
+    let mut buckets = vec![Vec::new(); groups];
+    let mut counts = GroupCounts::default();
+    for (t, g) in (first as u32..).zip(chunk) {
+        match *g {
+            NO_GROUP => counts.dropped_normal += 1,
+            DROPPED_LMAX => {
+                *g = NO_GROUP;
+                counts.dropped_lmax += 1;
+            }
+            group => {
+                buckets[group as usize].push(t);
+                counts.grouped += 1;
+            }
+        }
+    }
+    (buckets, counts)
 }
 
 /// A corner of the first triangle whose corners are all finite (the origin if none).
@@ -140,31 +208,6 @@ fn reference_point(mesh: &HalfEdgeMesh) -> [f64; 3] {
         .map(|&t| corners(v, t))
         .find(|corners| corners.iter().flatten().all(|x| x.is_finite()))
         .map_or([0.0; 3], |[a, _, _]| a)
-}
-
-/// The corners of triangle `t`.
-#[inline]
-pub(crate) fn corners(vertices: &[[f64; 3]], t: [u32; 3]) -> [[f64; 3]; 3] {
-    [
-        vertices[t[0] as usize],
-        vertices[t[1] as usize],
-        vertices[t[2] as usize],
-    ]
-}
-
-#[inline]
-fn sum3(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> [f64; 3] {
-    [a[0] + b[0] + c[0], a[1] + b[1] + c[1], a[2] + b[2] + c[2]]
-}
-
-#[inline]
-pub(crate) fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-#[inline]
-pub(crate) fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
 /// Cells per cube-face side of [`NearestLookup`].
@@ -204,10 +247,12 @@ impl NearestLookup {
                     let corner = |di: usize, dj: usize| {
                         let u = 2.0 * (i + di) as f64 / n as f64 - 1.0;
                         let v = 2.0 * (j + dj) as f64 / n as f64 - 1.0;
-                        unit(face_point(face, u, v))
+                        let p = face_point(face, u, v);
+                        scale(p, 1.0 / dot(p, p).sqrt())
                     };
                     let corners = [corner(0, 0), corner(1, 0), corner(0, 1), corner(1, 1)];
-                    let centre = unit([0, 1, 2].map(|k| corners.iter().map(|c| c[k]).sum::<f64>()));
+                    let sum = corners.iter().fold([0.0; 3], |s, &c| add(s, c));
+                    let centre = scale(sum, 1.0 / dot(sum, sum).sqrt());
                     let radius = corners
                         .iter()
                         .map(|c| angle(centre, *c))
@@ -303,28 +348,16 @@ fn face_point(face: usize, u: f64, v: f64) -> [f64; 3] {
     }
 }
 
-fn unit(v: [f64; 3]) -> [f64; 3] {
-    let len = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
-    v.map(|c| c / len)
-}
-
-fn angle(a: [f64; 3], b: [f64; 3]) -> f64 {
-    (a[0] * b[0] + a[1] * b[1] + a[2] * b[2])
-        .clamp(-1.0, 1.0)
-        .acos()
+fn angle(a: Vec3, b: Vec3) -> f64 {
+    dot(a, b).clamp(-1.0, 1.0).acos()
 }
 
 fn check_dominant(dominant: &[[f64; 3]]) -> Result<(), SegmentError> {
     for (index, d) in dominant.iter().enumerate() {
-        let len2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+        let len2 = dot(*d, *d);
         if !len2.is_finite() || (len2 - 1.0).abs() > 1e-6 {
             return Err(SegmentError::BadDominantNormal { index, normal: *d });
         }
     }
     Ok(())
-}
-
-#[inline]
-pub(crate) fn dist2(p: [f64; 3], q: [f64; 3]) -> f64 {
-    (p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) + (p[2] - q[2]) * (p[2] - q[2])
 }

@@ -1,19 +1,14 @@
 //! Region growing per dominant normal (Alg. 5) with overlapped polygon extraction.
 
-use std::sync::atomic::{AtomicU32, Ordering::Relaxed};
+use std::sync::atomic::Ordering::Relaxed;
 use std::sync::mpsc;
 
-use halfedge_mesh::{HalfEdgeMesh, NO_TWIN, cross_normal};
+use halfedge_mesh::{HalfEdgeMesh, NO_TWIN};
 use polyextract::{Extractor, Polygon};
 
-use crate::groups::{Assignment, GroupCounts, NO_GROUP, assign, dot};
+use crate::groups::{Assignment, FREE, GroupCounts, Slot, assign};
+use crate::vec3::{add, corners, cross, dot, scale, sub, unit};
 use crate::{SegmentError, SegmentationConfig};
-
-/// The state of a grouped triangle not yet in a segment: `FREE - g` for group `g`. Once in
-/// a segment the state is the segment's seed, a triangle index; triangle indices stay below
-/// `u32::MAX / 3` (half-edge indices are `u32`), far from these values. One word per
-/// triangle answers "is it free and in my group" with a single load.
-const FREE: u32 = u32::MAX - 1;
 
 /// A planar segment and its polygon.
 #[derive(Debug, Clone, PartialEq)]
@@ -53,7 +48,7 @@ pub struct SegmentationCounts {
 /// The result of [`segment`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct Segmentation {
-    /// The group of every triangle ([`NO_GROUP`] if dropped).
+    /// The group of every triangle ([`NO_GROUP`](crate::NO_GROUP) if dropped).
     pub groups: Vec<u32>,
     /// Segments with their polygons, sorted by (group, seed).
     pub segments: Vec<PlanarSegment>,
@@ -72,52 +67,28 @@ pub fn segment(
 ) -> Result<Segmentation, SegmentError> {
     let Assignment {
         groups,
-        offsets: centroid_offsets,
-        volumes,
+        slots,
         reference,
+        buckets,
         counts: group_counts,
     } = assign(mesh, dominant, config)?;
 
-    // Bucket the triangles by group (counting sort), keeping triangle order.
-    let mut offsets = vec![0usize; dominant.len() + 1];
-    for &g in &groups {
-        if g != NO_GROUP {
-            offsets[g as usize + 1] += 1;
-        }
-    }
-    for i in 1..offsets.len() {
-        offsets[i] += offsets[i - 1];
-    }
-    let mut order = vec![0u32; offsets[dominant.len()]];
-    let mut fill = offsets.clone();
-    for (t, &g) in groups.iter().enumerate() {
-        if g != NO_GROUP {
-            order[fill[g as usize]] = t as u32;
-            fill[g as usize] += 1;
-        }
-    }
-
-    let labels: Vec<AtomicU32> = groups
-        .iter()
-        .map(|&g| AtomicU32::new(if g == NO_GROUP { NO_GROUP } else { FREE - g }))
-        .collect();
-    let labels = labels.as_slice();
+    let slots = slots.as_slice();
     let (sender, receiver) = mpsc::channel();
     let grower = Grower {
         mesh,
-        labels,
-        offsets: &centroid_offsets,
-        volumes: &volumes,
+        slots,
         reference,
         config,
     };
     // Largest groups first, so that the longest task starts at once.
-    let mut by_size: Vec<usize> = (0..dominant.len()).collect();
-    by_size.sort_by_key(|&g| std::cmp::Reverse(offsets[g + 1] - offsets[g]));
+    let size = |g: usize| buckets.iter().map(|b| b[g].len()).sum::<usize>();
+    let mut by_size: Vec<(usize, usize)> = (0..dominant.len()).map(|g| (size(g), g)).collect();
+    by_size.sort_by_key(|&(size, g)| (std::cmp::Reverse(size), g));
+    let buckets = &buckets;
     rayon::scope(|scope| {
-        for g in by_size {
-            let bucket = &order[offsets[g]..offsets[g + 1]];
-            if bucket.is_empty() {
+        for (size, g) in by_size {
+            if size == 0 {
                 continue;
             }
             let sender = sender.clone();
@@ -125,8 +96,8 @@ pub fn segment(
             scope.spawn(move |scope| {
                 let mut grown = 0;
                 let mut region = Region::default();
-                for &seed in bucket {
-                    if labels[seed as usize].load(Relaxed) != FREE - g as u32 {
+                for &seed in buckets.iter().flat_map(|b| &b[g]) {
+                    if slots[seed as usize].label.load(Relaxed) != FREE - g as u32 {
                         continue;
                     }
                     grower.grow(g as u32, seed, &mut region);
@@ -192,18 +163,15 @@ enum Outcome {
 struct Region {
     triangles: Vec<u32>,
     boundary: Vec<u32>,
+    /// The sum of the triangles' volume terms (see [`Slot::volume`]).
+    volume: f64,
 }
 
 /// Shared, read-mostly state of the growing tasks.
 struct Grower<'a> {
     mesh: &'a HalfEdgeMesh,
-    /// Per triangle: `FREE - g` while free in group `g`, the seed once in a segment,
-    /// [`NO_GROUP`] if in no group.
-    labels: &'a [AtomicU32],
-    /// Per grouped triangle, its centroid's offset along its group's dominant normal.
-    offsets: &'a [f64],
-    /// Per grouped triangle, six times the signed volume it spans with `reference`.
-    volumes: &'a [f32],
+    /// Per triangle: label, offset and volume term.
+    slots: &'a [Slot],
     reference: [f64; 3],
     config: &'a SegmentationConfig,
 }
@@ -219,10 +187,12 @@ impl Grower<'_> {
         let Region {
             triangles,
             boundary,
+            volume,
         } = region;
         triangles.clear();
         boundary.clear();
-        let plane = self.offsets[seed as usize];
+        let first = &self.slots[seed as usize];
+        let plane = first.offset;
         let z_thresh = if self.config.z_thresh > 0.0 {
             self.config.z_thresh
         } else {
@@ -230,7 +200,8 @@ impl Grower<'_> {
         };
         let twins = self.mesh.halfedges();
         let free = FREE - g;
-        self.labels[seed as usize].store(seed, Relaxed);
+        first.label.store(seed, Relaxed);
+        *volume = f64::from(first.volume);
         triangles.push(seed);
         let mut next = 0;
         while next < triangles.len() {
@@ -238,15 +209,17 @@ impl Grower<'_> {
             next += 1;
             for (h, &twin) in (3 * t..3 * t + 3).zip(&twins[3 * t..3 * t + 3]) {
                 if twin != NO_TWIN {
-                    let n = (twin / 3) as usize;
-                    let label = self.labels[n].load(Relaxed);
+                    let n = twin / 3;
+                    let slot = &self.slots[n as usize];
+                    let label = slot.label.load(Relaxed);
                     if label == seed {
                         continue;
                     }
                     // Not `> z_thresh`: a NaN offset must fail too.
-                    if label == free && (self.offsets[n] - plane).abs() <= z_thresh {
-                        self.labels[n].store(seed, Relaxed);
-                        triangles.push(n as u32);
+                    if label == free && (slot.offset - plane).abs() <= z_thresh {
+                        slot.label.store(seed, Relaxed);
+                        *volume += f64::from(slot.volume);
+                        triangles.push(n);
                         continue;
                     }
                 }
@@ -263,13 +236,8 @@ impl Grower<'_> {
         region: Region,
     ) -> Result<PlanarSegment, (u32, u32, SegmentError)> {
         let v = self.mesh.vertices();
-        let volume: f64 = region
-            .triangles
-            .iter()
-            .map(|&t| f64::from(self.volumes[t as usize]))
-            .sum();
         let (normal, centroid) =
-            boundary_plane(self.mesh, &region.boundary, volume, self.reference);
+            boundary_plane(self.mesh, &region.boundary, region.volume, self.reference);
         let (e1, e2) = plane_axes(normal);
         let mut polygon = Extractor::new()
             .extract_boundary(self.mesh, &region.boundary, |i| {
@@ -311,29 +279,25 @@ impl Grower<'_> {
 /// ```
 pub fn geometric_plane(mesh: &HalfEdgeMesh, triangles: &[u32]) -> ([f64; 3], [f64; 3]) {
     let v = mesh.vertices();
-    let corners = |t: u32| mesh.triangles()[t as usize].map(|i| v[i as usize]);
-    let mut area = [0.0; 3];
-    for &t in triangles {
+    let corners = |t: u32| corners(v, mesh.triangles()[t as usize]);
+    let area = triangles.iter().fold([0.0; 3], |area, &t| {
         let [a, b, c] = corners(t);
-        add(&mut area, cross_normal(a, b, c));
-    }
+        add(area, cross(sub(b, a), sub(c, a)))
+    });
     let Some(normal) = unit(area) else {
         return ([0.0; 3], [0.0; 3]);
     };
     let (mut weighted, mut total) = ([0.0; 3], 0.0);
     for &t in triangles {
         let [a, b, c] = corners(t);
-        let w = dot(cross_normal(a, b, c), normal);
-        add(
-            &mut weighted,
-            [0, 1, 2].map(|k| w * (a[k] + b[k] + c[k]) / 3.0),
-        );
+        let w = dot(cross(sub(b, a), sub(c, a)), normal);
+        weighted = add(weighted, scale(add(add(a, b), c), w / 3.0));
         total += w;
     }
-    if !(total > 0.0) {
+    if total.is_nan() || total <= 0.0 {
         return ([0.0; 3], [0.0; 3]);
     }
-    (normal, weighted.map(|x| x / total))
+    (normal, scale(weighted, 1.0 / total))
 }
 
 /// [`geometric_plane`] of a region from its boundary half-edges and `volume`, the sum over
@@ -352,53 +316,32 @@ fn boundary_plane(
     reference: [f64; 3],
 ) -> ([f64; 3], [f64; 3]) {
     let v = mesh.vertices();
-    let relative = |i: u32| {
-        let p = v[i as usize];
-        [0, 1, 2].map(|k| p[k] - reference[k])
-    };
+    let relative = |i: u32| sub(v[i as usize], reference);
     let mut area = [0.0; 3];
     // moment[k] = Σ (p + q)[k] (p × q), so that Σ (p + q) ((p × q) · n) = moment · n.
     let mut moment = [[0.0; 3]; 3];
     for &h in boundary {
         let (p, q) = (relative(mesh.origin(h)), relative(mesh.destination(h)));
         let pq = cross(p, q);
-        add(&mut area, pq);
-        for (row, (pk, qk)) in moment.iter_mut().zip(p.into_iter().zip(q)) {
-            add(row, pq.map(|x| (pk + qk) * x));
+        area = add(area, pq);
+        let pq_sum = add(p, q);
+        for (row, s) in moment.iter_mut().zip(pq_sum) {
+            *row = add(*row, scale(pq, s));
         }
     }
     let Some(normal) = unit(area) else {
         return ([0.0; 3], [0.0; 3]);
     };
     let total = dot(area, normal);
-    if !(total > 0.0) {
+    if total.is_nan() || total <= 0.0 {
         return ([0.0; 3], [0.0; 3]);
     }
-    let centroid = [0, 1, 2]
-        .map(|k| reference[k] + (dot(moment[k], normal) + volume * normal[k]) / (3.0 * total));
+    let moment_n = [0, 1, 2].map(|k| dot(moment[k], normal));
+    let centroid = add(
+        reference,
+        scale(add(moment_n, scale(normal, volume)), 1.0 / (3.0 * total)),
+    );
     (normal, centroid)
-}
-
-/// `v / |v|`, or `None` for a zero or non-finite length.
-fn unit(v: [f64; 3]) -> Option<[f64; 3]> {
-    let len = dot(v, v).sqrt();
-    (len > 0.0 && len.is_finite()).then(|| v.map(|c| c / len))
-}
-
-#[inline]
-fn add(sum: &mut [f64; 3], v: [f64; 3]) {
-    for (s, x) in sum.iter_mut().zip(v) {
-        *s += x;
-    }
-}
-
-#[inline]
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
 }
 
 /// Two unit vectors completing the unit `n` to a right-handed orthonormal frame.
@@ -410,10 +353,8 @@ fn plane_axes(n: [f64; 3]) -> ([f64; 3], [f64; 3]) {
     } else {
         [0.0, 0.0, 1.0]
     };
-    let d = dot(axis, n);
-    let e1 = [axis[0] - d * n[0], axis[1] - d * n[1], axis[2] - d * n[2]];
-    let l = dot(e1, e1).sqrt();
-    let e1 = e1.map(|c| c / l);
+    let e1 = sub(axis, scale(n, dot(axis, n)));
+    let e1 = scale(e1, 1.0 / dot(e1, e1).sqrt());
     let e2 = cross(n, e1);
     (e1, e2)
 }

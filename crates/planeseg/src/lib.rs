@@ -44,6 +44,7 @@
 mod config;
 mod groups;
 mod grow;
+mod vec3;
 
 pub use config::SegmentationConfig;
 pub use groups::{GroupCounts, NO_GROUP, assign_groups};
