@@ -8,7 +8,7 @@ use std::time::Duration;
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use fastga::FastGa;
-use planeseg::{SegmentationConfig, segment};
+use planeseg::segment;
 use polylidar::{Config, OrganizedPointCloud, Polylidar};
 use polylidar_io::{InputKind, read_input};
 
@@ -35,12 +35,7 @@ fn bench(c: &mut Criterion) {
         .iter()
         .map(|d| d.normal)
         .collect();
-    let segmentation = SegmentationConfig::new()
-        .with_lmax(config.lmax)
-        .with_norm_thresh(config.norm_thresh)
-        .with_z_thresh(config.z_thresh)
-        .with_min_triangles(config.min_triangles)
-        .with_min_hole_vertices(config.min_hole_vertices);
+    let segmentation = config.segmentation();
     let found = segment(&mesh, &dominant, &segmentation).expect("segmentation");
     eprintln!(
         "pc_01: {} triangles, {} dominant normals, {} segments",

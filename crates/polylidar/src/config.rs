@@ -2,6 +2,7 @@
 
 use fastga::FastGaConfig;
 use mesh_smooth_gpu::{Backend, BilateralOptions, LaplacianOptions};
+use planeseg::SegmentationConfig;
 use polypost::PostprocessConfig;
 use serde::{Deserialize, Serialize};
 
@@ -369,6 +370,16 @@ impl Default for Config {
 }
 
 impl Config {
+    /// The planar segmentation parameters of this configuration (3D pipelines).
+    pub fn segmentation(&self) -> SegmentationConfig {
+        SegmentationConfig::new()
+            .with_lmax(self.lmax)
+            .with_norm_thresh(self.norm_thresh)
+            .with_z_thresh(self.z_thresh)
+            .with_min_triangles(self.min_triangles)
+            .with_min_hole_vertices(self.min_hole_vertices)
+    }
+
     /// The defaults; see each field.
     pub fn new() -> Self {
         Self::default()

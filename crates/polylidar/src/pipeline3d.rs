@@ -4,7 +4,6 @@
 use fastga::FastGa;
 use halfedge_mesh::{HalfEdgeMesh, MeshOptions};
 use opc_mesh::{OpcMeshOptions, OrganizedPointCloud};
-use planeseg::SegmentationConfig;
 use polypost::{Plane, Polygon3, PostProcessor};
 
 use crate::config::LaplacianIterations;
@@ -142,12 +141,7 @@ impl Polylidar {
             None => timings.time("fastga", || self.detect_normals(&mesh))?,
         };
         counts.dominant_normals = dominant.len();
-        let segmentation = SegmentationConfig::new()
-            .with_lmax(config.lmax)
-            .with_norm_thresh(config.norm_thresh)
-            .with_z_thresh(config.z_thresh)
-            .with_min_triangles(config.min_triangles)
-            .with_min_hole_vertices(config.min_hole_vertices);
+        let segmentation = config.segmentation();
         let found = timings.time("planes_polygons", || {
             planeseg::segment(&mesh, &dominant, &segmentation)
         })?;
