@@ -4,6 +4,7 @@
 use opc_mesh::OrganizedPointCloud;
 use rayon::prelude::*;
 
+use super::simd::widest;
 use super::{Planes, exp_neg, min_rows_per_task, resize_all};
 use crate::{BilateralOptions, grid::TRIANGLES_PER_CELL};
 
@@ -87,7 +88,7 @@ pub(crate) fn bilateral_into(
                 .enumerate()
                 .with_min_len(min_rows_per_task(parallel))
                 .for_each(|(r, (a, b, c, d, e, f))| {
-                    filter.row(r, previous, types, [[a, b, c], [d, e, f]]);
+                    row(&filter, r, previous, types, [[a, b, c], [d, e, f]]);
                 });
             std::mem::swap(current, next);
         }
@@ -209,91 +210,95 @@ struct Filter {
     inv_var_angle: f32,
 }
 
-impl Filter {
+widest! {
     /// Writes cell row `r` of the next pass (both triangle types) into `out`.
-    fn row(
-        &self,
-        r: usize,
-        normals: &[Xyz; 2],
-        types: &[TypePlanes; 2],
-        mut out: [[&mut [f32]; 3]; 2],
-    ) {
-        let Cells { rows, cols, half } = self.cells;
-        let base = r * cols;
-        let border_row = r < half || r + half >= rows;
-        let len = cols - 2 * half;
-        for (ko, planes) in out.iter_mut().enumerate() {
-            for (o, n) in planes.iter_mut().zip(&normals[ko]) {
-                if border_row {
-                    o.copy_from_slice(&n[base..base + cols]);
-                } else {
-                    o[..half].copy_from_slice(&n[base..base + half]);
-                    o[half + len..].copy_from_slice(&n[base + half + len..base + cols]);
+    fn row(filter: &Filter, r: usize, normals: &[Xyz; 2], types: &[TypePlanes; 2], out: [[&mut [f32]; 3]; 2]) => row_kernel
+}
+
+/// [`row`] for the baseline target or, inlined, for a wider one.
+#[inline(always)]
+fn row_kernel(
+    filter: &Filter,
+    r: usize,
+    normals: &[Xyz; 2],
+    types: &[TypePlanes; 2],
+    mut out: [[&mut [f32]; 3]; 2],
+) {
+    let Cells { rows, cols, half } = filter.cells;
+    let base = r * cols;
+    let border_row = r < half || r + half >= rows;
+    let len = cols - 2 * half;
+    for (ko, planes) in out.iter_mut().enumerate() {
+        for (o, n) in planes.iter_mut().zip(&normals[ko]) {
+            if border_row {
+                o.copy_from_slice(&n[base..base + cols]);
+            } else {
+                o[..half].copy_from_slice(&n[base..base + half]);
+                o[half + len..].copy_from_slice(&n[base + half + len..base + cols]);
+            }
+        }
+    }
+    if border_row {
+        return;
+    }
+    let own = base + half;
+    for (ko, [ax, ay, az]) in out_interior(out, half, len).into_iter().enumerate() {
+        let [nx, ny, nz] = &normals[ko];
+        let [cx, cy, cz] = &types[ko].centroid;
+        let (nx, ny, nz) = (
+            &nx[own..own + len],
+            &ny[own..own + len],
+            &nz[own..own + len],
+        );
+        let (cx, cy, cz) = (
+            &cx[own..own + len],
+            &cy[own..own + len],
+            &cz[own..own + len],
+        );
+        let om = &types[ko].mask[own..own + len];
+        ax.fill(0.0);
+        ay.fill(0.0);
+        az.fill(0.0);
+        let k = 2 * half + 1;
+        for dr in 0..k {
+            for dc in 0..k {
+                if dr == half && dc == half {
+                    continue;
+                }
+                let start = (r + dr - half) * cols + dc;
+                for kn in 0..TRIANGLES_PER_CELL {
+                    let [qnx, qny, qnz] = &normals[kn];
+                    let [qcx, qcy, qcz] = &types[kn].centroid;
+                    let qnx = &qnx[start..start + len];
+                    let qny = &qny[start..start + len];
+                    let qnz = &qnz[start..start + len];
+                    let qcx = &qcx[start..start + len];
+                    let qcy = &qcy[start..start + len];
+                    let qcz = &qcz[start..start + len];
+                    let qm = &types[kn].mask[start..start + len];
+                    for i in 0..len {
+                        let (ex, ey, ez) = (cx[i] - qcx[i], cy[i] - qcy[i], cz[i] - qcz[i]);
+                        let (fx, fy, fz) = (nx[i] - qnx[i], ny[i] - qny[i], nz[i] - qnz[i]);
+                        let e = (ex * ex + ey * ey + ez * ez) * filter.inv_var_length
+                            + (fx * fx + fy * fy + fz * fz) * filter.inv_var_angle;
+                        let w = qm[i] * exp_neg(e);
+                        ax[i] += w * qnx[i];
+                        ay[i] += w * qny[i];
+                        az[i] += w * qnz[i];
+                    }
                 }
             }
         }
-        if border_row {
-            return;
-        }
-        let own = base + half;
-        for (ko, [ax, ay, az]) in out_interior(out, half, len).into_iter().enumerate() {
-            let [nx, ny, nz] = &normals[ko];
-            let [cx, cy, cz] = &types[ko].centroid;
-            let (nx, ny, nz) = (
-                &nx[own..own + len],
-                &ny[own..own + len],
-                &nz[own..own + len],
-            );
-            let (cx, cy, cz) = (
-                &cx[own..own + len],
-                &cy[own..own + len],
-                &cz[own..own + len],
-            );
-            let om = &types[ko].mask[own..own + len];
-            ax.fill(0.0);
-            ay.fill(0.0);
-            az.fill(0.0);
-            let k = 2 * half + 1;
-            for dr in 0..k {
-                for dc in 0..k {
-                    if dr == half && dc == half {
-                        continue;
-                    }
-                    let start = (r + dr - half) * cols + dc;
-                    for kn in 0..TRIANGLES_PER_CELL {
-                        let [qnx, qny, qnz] = &normals[kn];
-                        let [qcx, qcy, qcz] = &types[kn].centroid;
-                        let qnx = &qnx[start..start + len];
-                        let qny = &qny[start..start + len];
-                        let qnz = &qnz[start..start + len];
-                        let qcx = &qcx[start..start + len];
-                        let qcy = &qcy[start..start + len];
-                        let qcz = &qcz[start..start + len];
-                        let qm = &types[kn].mask[start..start + len];
-                        for i in 0..len {
-                            let (ex, ey, ez) = (cx[i] - qcx[i], cy[i] - qcy[i], cz[i] - qcz[i]);
-                            let (fx, fy, fz) = (nx[i] - qnx[i], ny[i] - qny[i], nz[i] - qnz[i]);
-                            let e = (ex * ex + ey * ey + ez * ez) * self.inv_var_length
-                                + (fx * fx + fy * fy + fz * fz) * self.inv_var_angle;
-                            let w = qm[i] * exp_neg(e);
-                            ax[i] += w * qnx[i];
-                            ay[i] += w * qny[i];
-                            az[i] += w * qnz[i];
-                        }
-                    }
-                }
-            }
-            for i in 0..len {
-                let s = (ax[i] * ax[i] + ay[i] * ay[i] + az[i] * az[i]).sqrt();
-                let (x, y, z) = if om[i] > 0.0 && s > 0.0 {
-                    (ax[i] / s, ay[i] / s, az[i] / s)
-                } else {
-                    (nx[i], ny[i], nz[i])
-                };
-                ax[i] = x;
-                ay[i] = y;
-                az[i] = z;
-            }
+        for i in 0..len {
+            let s = (ax[i] * ax[i] + ay[i] * ay[i] + az[i] * az[i]).sqrt();
+            let (x, y, z) = if om[i] > 0.0 && s > 0.0 {
+                (ax[i] / s, ay[i] / s, az[i] / s)
+            } else {
+                (nx[i], ny[i], nz[i])
+            };
+            ax[i] = x;
+            ay[i] = y;
+            az[i] = z;
         }
     }
 }

@@ -3,6 +3,7 @@
 use opc_mesh::OrganizedPointCloud;
 use rayon::prelude::*;
 
+use super::simd::widest;
 use super::{Planes, min_rows_per_task, resize_all};
 use crate::LaplacianOptions;
 
@@ -66,7 +67,7 @@ pub(crate) fn laplacian_in_place(
             .into_par_iter()
             .enumerate()
             .with_min_len(min_rows_per_task(parallel))
-            .for_each(|(r, (ox, oy, oz, ow))| grid.row(r, &source, [ox, oy, oz], ow));
+            .for_each(|(r, (ox, oy, oz, ow))| row(&grid, r, &source, [ox, oy, oz], ow));
         std::mem::swap(&mut current, &mut next);
     }
     let [x, y, z] = &current;
@@ -93,81 +94,85 @@ struct Grid {
     epsilon: f32,
 }
 
-impl Grid {
+widest! {
     /// Writes row `r` of the next pass into `out` and its weight sums into `sums`.
-    fn row(&self, r: usize, src: &Source<'_>, out: [&mut [f32]; 3], sums: &mut [f32]) {
-        let Self {
-            rows,
-            cols,
-            half,
-            lambda,
-            epsilon,
-        } = *self;
-        let base = r * cols;
-        let [ox, oy, oz] = out;
-        if r < half || r + half >= rows {
-            ox.copy_from_slice(&src.x[base..base + cols]);
-            oy.copy_from_slice(&src.y[base..base + cols]);
-            oz.copy_from_slice(&src.z[base..base + cols]);
-            sums.fill(0.0);
-            return;
-        }
-        let len = cols - 2 * half;
-        for (o, s) in [(&mut *ox, src.x), (&mut *oy, src.y), (&mut *oz, src.z)] {
-            o[..half].copy_from_slice(&s[base..base + half]);
-            o[half + len..].copy_from_slice(&s[base + half + len..base + cols]);
-        }
-        sums[..half].fill(0.0);
-        sums[half + len..].fill(0.0);
+    fn row(grid: &Grid, r: usize, src: &Source<'_>, out: [&mut [f32]; 3], sums: &mut [f32]) => row_kernel
+}
 
-        let own = base + half;
-        let vx = &src.x[own..own + len];
-        let vy = &src.y[own..own + len];
-        let vz = &src.z[own..own + len];
-        let vm = &src.m[own..own + len];
-        let ax = &mut ox[half..half + len];
-        let ay = &mut oy[half..half + len];
-        let az = &mut oz[half..half + len];
-        let aw = &mut sums[half..half + len];
-        ax.fill(0.0);
-        ay.fill(0.0);
-        az.fill(0.0);
-        aw.fill(0.0);
-        let k = 2 * half + 1;
-        for dr in 0..k {
-            for dc in 0..k {
-                if dr == half && dc == half {
-                    continue;
-                }
-                let start = (r + dr - half) * cols + dc;
-                let qx = &src.x[start..start + len];
-                let qy = &src.y[start..start + len];
-                let qz = &src.z[start..start + len];
-                let qm = &src.m[start..start + len];
-                for i in 0..len {
-                    let dx = vx[i] - qx[i];
-                    let dy = vy[i] - qy[i];
-                    let dz = vz[i] - qz[i];
-                    let d = (dx * dx + dy * dy + dz * dz).sqrt();
-                    let w = qm[i] / (d + epsilon);
-                    aw[i] += w;
-                    ax[i] += w * qx[i];
-                    ay[i] += w * qy[i];
-                    az[i] += w * qz[i];
-                }
+/// [`row`] for the baseline target or, inlined, for a wider one.
+#[inline(always)]
+fn row_kernel(grid: &Grid, r: usize, src: &Source<'_>, out: [&mut [f32]; 3], sums: &mut [f32]) {
+    let Grid {
+        rows,
+        cols,
+        half,
+        lambda,
+        epsilon,
+    } = *grid;
+    let base = r * cols;
+    let [ox, oy, oz] = out;
+    if r < half || r + half >= rows {
+        ox.copy_from_slice(&src.x[base..base + cols]);
+        oy.copy_from_slice(&src.y[base..base + cols]);
+        oz.copy_from_slice(&src.z[base..base + cols]);
+        sums.fill(0.0);
+        return;
+    }
+    let len = cols - 2 * half;
+    for (o, s) in [(&mut *ox, src.x), (&mut *oy, src.y), (&mut *oz, src.z)] {
+        o[..half].copy_from_slice(&s[base..base + half]);
+        o[half + len..].copy_from_slice(&s[base + half + len..base + cols]);
+    }
+    sums[..half].fill(0.0);
+    sums[half + len..].fill(0.0);
+
+    let own = base + half;
+    let vx = &src.x[own..own + len];
+    let vy = &src.y[own..own + len];
+    let vz = &src.z[own..own + len];
+    let vm = &src.m[own..own + len];
+    let ax = &mut ox[half..half + len];
+    let ay = &mut oy[half..half + len];
+    let az = &mut oz[half..half + len];
+    let aw = &mut sums[half..half + len];
+    ax.fill(0.0);
+    ay.fill(0.0);
+    az.fill(0.0);
+    aw.fill(0.0);
+    let k = 2 * half + 1;
+    for dr in 0..k {
+        for dc in 0..k {
+            if dr == half && dc == half {
+                continue;
+            }
+            let start = (r + dr - half) * cols + dc;
+            let qx = &src.x[start..start + len];
+            let qy = &src.y[start..start + len];
+            let qz = &src.z[start..start + len];
+            let qm = &src.m[start..start + len];
+            for i in 0..len {
+                let dx = vx[i] - qx[i];
+                let dy = vy[i] - qy[i];
+                let dz = vz[i] - qz[i];
+                let d = (dx * dx + dy * dy + dz * dz).sqrt();
+                let w = qm[i] / (d + epsilon);
+                aw[i] += w;
+                ax[i] += w * qx[i];
+                ay[i] += w * qy[i];
+                az[i] += w * qz[i];
             }
         }
-        for i in 0..len {
-            if vm[i] > 0.0 && aw[i] > 0.0 {
-                ax[i] = vx[i] + lambda * (ax[i] / aw[i] - vx[i]);
-                ay[i] = vy[i] + lambda * (ay[i] / aw[i] - vy[i]);
-                az[i] = vz[i] + lambda * (az[i] / aw[i] - vz[i]);
-            } else {
-                ax[i] = vx[i];
-                ay[i] = vy[i];
-                az[i] = vz[i];
-                aw[i] = 0.0;
-            }
+    }
+    for i in 0..len {
+        if vm[i] > 0.0 && aw[i] > 0.0 {
+            ax[i] = vx[i] + lambda * (ax[i] / aw[i] - vx[i]);
+            ay[i] = vy[i] + lambda * (ay[i] / aw[i] - vy[i]);
+            az[i] = vz[i] + lambda * (az[i] / aw[i] - vz[i]);
+        } else {
+            ax[i] = vx[i];
+            ay[i] = vy[i];
+            az[i] = vz[i];
+            aw[i] = 0.0;
         }
     }
 }

@@ -9,6 +9,7 @@
 mod bilateral;
 mod fast_exp;
 mod laplacian;
+mod simd;
 
 pub use smoother::CpuSmoother;
 
