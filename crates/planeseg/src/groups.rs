@@ -1,6 +1,7 @@
 //! Group assignment (Alg. 4).
 
 use std::sync::atomic::AtomicU32;
+use std::sync::atomic::Ordering::Relaxed;
 
 use halfedge_mesh::HalfEdgeMesh;
 use rayon::prelude::*;
@@ -46,13 +47,23 @@ pub fn assign_groups(
     dominant: &[[f64; 3]],
     config: &SegmentationConfig,
 ) -> Result<(Vec<u32>, GroupCounts), SegmentError> {
-    assign(mesh, dominant, config).map(|a| (a.groups, a.counts))
+    let mut assignment = Assignment::default();
+    assignment.assign(mesh, dominant, config)?;
+    let groups = assignment
+        .slots
+        .par_iter()
+        .map(|slot| match slot.label.load(Relaxed) {
+            NO_GROUP => NO_GROUP,
+            free => FREE - free,
+        })
+        .collect();
+    Ok((groups, assignment.counts))
 }
 
-/// The result of [`assign`].
+/// Group assignment with what region growing and the segment planes need, in buffers
+/// kept across calls.
+#[derive(Debug, Default)]
 pub(crate) struct Assignment {
-    /// Group per triangle.
-    pub groups: Vec<u32>,
     /// What region growing reads of each triangle, in one place.
     pub slots: Vec<Slot>,
     /// The point the volumes are taken from: a corner of the mesh's first triangle with
@@ -69,11 +80,7 @@ pub(crate) struct Assignment {
 /// a segment the state is the segment's seed, a triangle index; triangle indices stay below
 /// `u32::MAX / 3` (half-edge indices are `u32`), far from these values. One word per
 /// triangle answers "is it free and in my group" with a single load.
-pub(crate) const FREE: u32 = u32::MAX - 2;
-
-/// The group [`assign`] gives a triangle dropped by the `lmax` test until it counts the
-/// drops and replaces it by [`NO_GROUP`].
-const DROPPED_LMAX: u32 = u32::MAX - 1;
+pub(crate) const FREE: u32 = u32::MAX - 1;
 
 /// Per triangle, all that region growing reads of a neighbour, so that visiting it costs
 /// one cache line.
@@ -104,100 +111,200 @@ impl Slot {
     }
 }
 
-/// [`assign_groups`] with what region growing and the segment planes need, computed
-/// while the triangle's corners are at hand. Every output array is written once, in
-/// parallel: this pass moves more memory than it computes.
-pub(crate) fn assign(
-    mesh: &HalfEdgeMesh,
-    dominant: &[[f64; 3]],
-    config: &SegmentationConfig,
-) -> Result<Assignment, SegmentError> {
-    config.validate()?;
-    check_dominant(dominant)?;
-    let normals = mesh
-        .triangle_normals()
-        .ok_or(SegmentError::MissingNormals)?;
-    let vertices = mesh.vertices();
-    let lmax2 = if config.lmax > 0.0 {
-        config.lmax * config.lmax
-    } else {
-        f64::INFINITY
-    };
-    let reference = reference_point(mesh);
-    let lookup = NearestLookup::new(dominant);
-    let mut groups = Vec::new();
-    let mut slots = Vec::new();
-    mesh.triangles()
-        .par_iter()
-        .zip(normals)
-        .with_min_len(CHUNK)
-        // Neighbouring triangles mostly share a group: try the last one first.
-        .map_init(
-            || 0,
-            |last, (tri, n)| {
-                let [a, b, c] = corners(vertices, *tri);
-                let (u, v, w) = (sub(b, a), sub(c, a), sub(c, b));
-                if dot(u, u).max(dot(v, v)).max(dot(w, w)) > lmax2 {
-                    return (DROPPED_LMAX, Slot::none());
-                }
-                let (best, best_dot) = match lookup.sure_nearest(*n, *last) {
-                    Some(dot) => (*last, dot),
-                    None => lookup.nearest(*n, dominant),
-                };
-                // Also drops a NaN similarity.
-                if best_dot
-                    .partial_cmp(&config.norm_thresh)
-                    .is_none_or(|o| o.is_lt())
-                {
-                    return (NO_GROUP, Slot::none());
-                }
-                *last = best;
-                let centroid = add(a, scale(add(u, v), 1.0 / 3.0));
-                let slot = Slot {
-                    label: AtomicU32::new(FREE - best),
-                    volume: dot(cross(u, v), sub(a, reference)) as f32,
-                    offset: dot(dominant[best as usize], centroid),
-                };
-                (best, slot)
+impl Assignment {
+    /// Assigns the groups of `mesh`'s triangles, overwriting the previous contents. Each
+    /// output is written once, in parallel, in one pass over the triangles: this pass
+    /// moves more memory than it computes.
+    pub fn assign(
+        &mut self,
+        mesh: &HalfEdgeMesh,
+        dominant: &[[f64; 3]],
+        config: &SegmentationConfig,
+    ) -> Result<(), SegmentError> {
+        config.validate()?;
+        check_dominant(dominant)?;
+        let normals = mesh
+            .triangle_normals()
+            .ok_or(SegmentError::MissingNormals)?;
+        let lookup = NearestLookup::new(dominant);
+        self.reference = reference_point(mesh);
+        let kernel = Kernel {
+            vertices: mesh.vertices(),
+            dominant,
+            lookup: &lookup,
+            lmax2: if config.lmax > 0.0 {
+                config.lmax * config.lmax
+            } else {
+                f64::INFINITY
             },
-        )
-        .unzip_into_vecs(&mut groups, &mut slots);
-    let (buckets, counts): (Vec<_>, Vec<_>) = groups
-        .par_chunks_mut(CHUNK)
-        .enumerate()
-        .map(|(c, chunk)| bucket(chunk, c * CHUNK, dominant.len()))
-        .unzip();
-    let counts = counts
-        .into_iter()
-        .fold(GroupCounts::default(), GroupCounts::add);
-    Ok(Assignment {
-        groups,
-        slots,
-        reference,
-        buckets,
-        counts,
-    })
+            norm_thresh: config.norm_thresh,
+            reference: self.reference,
+        };
+        let n = mesh.num_triangles();
+        self.slots.truncate(n);
+        self.slots.resize_with(n, Slot::none);
+        self.buckets.resize_with(n.div_ceil(CHUNK), Vec::new);
+        self.buckets.truncate(n.div_ceil(CHUNK));
+        self.counts = self
+            .slots
+            .par_chunks_mut(CHUNK)
+            .zip(mesh.triangles().par_chunks(CHUNK))
+            .zip(normals.par_chunks(CHUNK))
+            .zip(self.buckets.par_iter_mut())
+            .enumerate()
+            .map(|(c, (((slots, tris), normals), buckets))| {
+                buckets.resize_with(dominant.len(), Vec::new);
+                buckets.truncate(dominant.len());
+                buckets.iter_mut().for_each(Vec::clear);
+                chunk(&kernel, (c * CHUNK) as u32, tris, normals, slots, buckets)
+            })
+            .reduce(GroupCounts::default, GroupCounts::add);
+        Ok(())
+    }
 }
 
-/// Lists the triangles of `chunk` (the first is triangle `first`) by group, counts them
-/// and replaces [`DROPPED_LMAX`] by [`NO_GROUP`].
-fn bucket(chunk: &mut [u32], first: usize, groups: usize) -> (Vec<Vec<u32>>, GroupCounts) {
-    let mut buckets = vec![Vec::new(); groups];
-    let mut counts = GroupCounts::default();
-    for (t, g) in (first as u32..).zip(chunk) {
-        match *g {
-            NO_GROUP => counts.dropped_normal += 1,
-            DROPPED_LMAX => {
-                *g = NO_GROUP;
-                counts.dropped_lmax += 1;
-            }
-            group => {
-                buckets[group as usize].push(t);
-                counts.grouped += 1;
+/// Triangles per block of the assignment kernel: the lanes of its vector arithmetic.
+const LANES: usize = 4;
+
+/// What group assignment needs of the mesh and the parameters.
+struct Kernel<'a> {
+    vertices: &'a [[f64; 3]],
+    dominant: &'a [[f64; 3]],
+    lookup: &'a NearestLookup,
+    lmax2: f64,
+    norm_thresh: f64,
+    reference: [f64; 3],
+}
+
+/// [`Kernel::chunk`], compiled also for AVX2 and chosen at run time.
+#[multiversion::multiversion(targets("x86_64+avx2"))]
+fn chunk(
+    kernel: &Kernel<'_>,
+    first: u32,
+    tris: &[[u32; 3]],
+    normals: &[[f64; 3]],
+    slots: &mut [Slot],
+    buckets: &mut [Vec<u32>],
+) -> GroupCounts {
+    kernel.chunk(first, tris, normals, slots, buckets)
+}
+
+impl Kernel<'_> {
+    /// Assigns one chunk (its first triangle is `first`), filling `slots` and `buckets`.
+    #[inline(always)]
+    fn chunk(
+        &self,
+        first: u32,
+        tris: &[[u32; 3]],
+        normals: &[[f64; 3]],
+        slots: &mut [Slot],
+        buckets: &mut [Vec<u32>],
+    ) -> GroupCounts {
+        let mut out = ChunkOut {
+            buckets,
+            counts: GroupCounts::default(),
+            // Neighbouring triangles mostly share a group: try the last one first.
+            last: 0,
+        };
+        let (tri_blocks, tri_rest) = tris.as_chunks::<LANES>();
+        let (normal_blocks, normal_rest) = normals.as_chunks::<LANES>();
+        let (slot_blocks, slot_rest) = slots.as_chunks_mut::<LANES>();
+        let mut t = first;
+        for ((tris, normals), slots) in tri_blocks.iter().zip(normal_blocks).zip(slot_blocks) {
+            self.block(t, tris, normals, slots, &mut out);
+            t += LANES as u32;
+        }
+        for ((tri, normal), slot) in tri_rest.iter().zip(normal_rest).zip(slot_rest) {
+            self.block(t, &[*tri], &[*normal], std::array::from_mut(slot), &mut out);
+            t += 1;
+        }
+        out.counts
+    }
+
+    /// Assigns `N` consecutive triangles, the first being `first`: their edge lengths,
+    /// centroids and volume terms lane by lane (vectorised), then the nearest dominant
+    /// normal, most often settled by one dot product with the last group's.
+    #[inline(always)]
+    fn block<const N: usize>(
+        &self,
+        first: u32,
+        tris: &[[u32; 3]; N],
+        normals: &[[f64; 3]; N],
+        slots: &mut [Slot; N],
+        out: &mut ChunkOut<'_>,
+    ) {
+        // corner[k][axis][lane]
+        let mut corner = [[[0.0f64; N]; 3]; 3];
+        for (l, tri) in tris.iter().enumerate() {
+            for (k, &i) in tri.iter().enumerate() {
+                let p = self.vertices[i as usize];
+                for axis in 0..3 {
+                    corner[k][axis][l] = p[axis];
+                }
             }
         }
+        let [a, b, c] = corner;
+        let r = self.reference;
+        let (mut far, mut volume, mut centroid) = ([false; N], [0.0f64; N], [[0.0f64; N]; 3]);
+        for l in 0..N {
+            let u = [b[0][l] - a[0][l], b[1][l] - a[1][l], b[2][l] - a[2][l]];
+            let v = [c[0][l] - a[0][l], c[1][l] - a[1][l], c[2][l] - a[2][l]];
+            let w = [c[0][l] - b[0][l], c[1][l] - b[1][l], c[2][l] - b[2][l]];
+            far[l] = (dot(u, u) > self.lmax2) | (dot(v, v) > self.lmax2) | (dot(w, w) > self.lmax2);
+            let corner_a = [a[0][l], a[1][l], a[2][l]];
+            volume[l] = dot(cross(u, v), sub(corner_a, r));
+            let mid = add(corner_a, scale(add(u, v), 1.0 / 3.0));
+            for axis in 0..3 {
+                centroid[axis][l] = mid[axis];
+            }
+        }
+        let candidate = out.last;
+        let (d, limit) = self
+            .lookup
+            .sure
+            .get(candidate as usize)
+            .copied()
+            .unwrap_or(([0.0; 3], f64::INFINITY));
+        let mut dots = [0.0f64; N];
+        for (dot, n) in dots.iter_mut().zip(normals) {
+            *dot = n[0] * d[0] + n[1] * d[1] + n[2] * d[2];
+        }
+        for l in 0..N {
+            if far[l] {
+                slots[l] = Slot::none();
+                out.counts.dropped_lmax += 1;
+                continue;
+            }
+            let (best, best_dot) = if dots[l] > limit {
+                (candidate, dots[l])
+            } else {
+                self.lookup.nearest(normals[l], self.dominant)
+            };
+            // Also drops a NaN similarity.
+            if !(best_dot >= self.norm_thresh) {
+                slots[l] = Slot::none();
+                out.counts.dropped_normal += 1;
+                continue;
+            }
+            out.last = best;
+            let centroid = [centroid[0][l], centroid[1][l], centroid[2][l]];
+            slots[l] = Slot {
+                label: AtomicU32::new(FREE - best),
+                volume: volume[l] as f32,
+                offset: dot(self.dominant[best as usize], centroid),
+            };
+            out.buckets[best as usize].push(first + l as u32);
+            out.counts.grouped += 1;
+        }
     }
-    (buckets, counts)
+}
+
+/// The running state of [`Kernel::chunk`].
+struct ChunkOut<'a> {
+    buckets: &'a mut [Vec<u32>],
+    counts: GroupCounts,
+    /// The group of the last grouped triangle.
+    last: u32,
 }
 
 /// A corner of the first triangle whose corners are all finite (the origin if none).
@@ -211,7 +318,7 @@ fn reference_point(mesh: &HalfEdgeMesh) -> [f64; 3] {
 }
 
 /// Cells per cube-face side of [`NearestLookup`].
-const CUBE_CELLS: usize = 32;
+const CUBE_CELLS: usize = 16;
 
 /// For each cell of a cube map over the sphere, the dominant normals that can be the
 /// nearest (largest dot product) to some direction in the cell, in index order; a
@@ -222,9 +329,9 @@ const CUBE_CELLS: usize = 32;
 /// direction in the cell is nearer to that `d_k` than to `d_j`. The scan over the
 /// candidates in index order then picks what a scan over all normals picks.
 ///
-/// Before that, [`Self::sure_nearest`] settles most triangles with one dot product: a
-/// direction within half the angle from `d_j` to its closest other dominant normal is
-/// strictly nearer to `d_j` than to any other (triangle inequality on the sphere).
+/// Before that, [`Self::sure`] settles most triangles with one dot product: a direction
+/// within half the angle from `d_j` to its closest other dominant normal is strictly
+/// nearer to `d_j` than to any other (triangle inequality on the sphere).
 struct NearestLookup {
     /// Start of each cell's candidates in `candidates` (one more entry than cells).
     offsets: Vec<u32>,
@@ -236,40 +343,36 @@ struct NearestLookup {
 
 impl NearestLookup {
     fn new(dominant: &[[f64; 3]]) -> Self {
-        let n = CUBE_CELLS;
-        let mut offsets = Vec::with_capacity(6 * n * n + 1);
-        let mut candidates = Vec::new();
-        offsets.push(0);
-        let mut dots = vec![0.0; dominant.len()];
-        for face in 0..6 {
-            for i in 0..n {
-                for j in 0..n {
-                    let corner = |di: usize, dj: usize| {
-                        let u = 2.0 * (i + di) as f64 / n as f64 - 1.0;
-                        let v = 2.0 * (j + dj) as f64 / n as f64 - 1.0;
-                        let p = face_point(face, u, v);
-                        scale(p, 1.0 / dot(p, p).sqrt())
-                    };
-                    let corners = [corner(0, 0), corner(1, 0), corner(0, 1), corner(1, 1)];
-                    let sum = corners.iter().fold([0.0; 3], |s, &c| add(s, c));
-                    let centre = scale(sum, 1.0 / dot(sum, sum).sqrt());
-                    let radius = corners
-                        .iter()
-                        .map(|c| angle(centre, *c))
-                        .fold(0.0, f64::max);
+        // Cells in parallel blocks, each listing its cells' candidates in index order and
+        // their counts; the blocks are then concatenated.
+        let blocks: Vec<(Vec<u32>, Vec<u32>)> = cube_cells()
+            .par_chunks(512)
+            .map(|cells| {
+                let mut dots = vec![0.0; dominant.len()];
+                let (mut candidates, mut counts) = (Vec::new(), Vec::with_capacity(cells.len()));
+                for cell in cells {
                     for (dot, d) in dots.iter_mut().zip(dominant) {
-                        *dot = centre[0] * d[0] + centre[1] * d[1] + centre[2] * d[2];
+                        *dot =
+                            cell.centre[0] * d[0] + cell.centre[1] * d[1] + cell.centre[2] * d[2];
                     }
-                    // Angles compared through their cosines: one arc cosine per cell.
-                    let nearest = dots.iter().copied().fold(-1.0, f64::max).min(1.0).acos();
-                    let limit = (nearest + 2.0 * radius + 1e-9)
-                        .min(std::f64::consts::PI)
-                        .cos();
+                    let nearest = dots.iter().copied().fold(-1.0, f64::max).min(1.0);
+                    let limit = cell.limit(nearest);
+                    let before = candidates.len();
                     candidates.extend(
                         (0..dominant.len() as u32).filter(|&k| dots[k as usize] >= limit - 1e-12),
                     );
-                    offsets.push(candidates.len() as u32);
+                    counts.push((candidates.len() - before) as u32);
                 }
+                (candidates, counts)
+            })
+            .collect();
+        let mut offsets = Vec::with_capacity(cube_cells().len() + 1);
+        offsets.push(0);
+        let mut candidates = Vec::with_capacity(blocks.iter().map(|b| b.0.len()).sum());
+        for (block, counts) in &blocks {
+            candidates.extend_from_slice(block);
+            for &count in counts {
+                offsets.push(offsets[offsets.len() - 1] + count);
             }
         }
         let sure = dominant
@@ -291,15 +394,6 @@ impl NearestLookup {
             candidates,
             sure,
         }
-    }
-
-    /// `Some(dot(n, d_j))` if `d_j` is certainly the nearest dominant normal to `n`
-    /// ; `None` if that takes [`Self::nearest`] (or `j` is out of range).
-    #[inline]
-    fn sure_nearest(&self, n: [f64; 3], j: u32) -> Option<f64> {
-        let &(d, limit) = self.sure.get(j as usize)?;
-        let dot = dot(n, d);
-        (dot > limit).then_some(dot)
     }
 
     /// The nearest of the `dominant` normals to `n` (the lowest index on a tie) and its
@@ -335,6 +429,65 @@ impl NearestLookup {
         let index = (face * CUBE_CELLS + cell(u)) * CUBE_CELLS + cell(v);
         &self.candidates[self.offsets[index] as usize..self.offsets[index + 1] as usize]
     }
+}
+
+/// A cell of the cube map of [`NearestLookup`]: its centre direction and what the
+/// candidate test needs of its angular radius `r` (the angle to its farthest corner).
+struct CubeCell {
+    centre: [f64; 3],
+    /// `cos b` and `sin b` for `b = 2r + 1e-9`: a normal farther than `nearest + b` from
+    /// the centre cannot be the nearest anywhere in the cell (the 1e-9 covers rounding).
+    cos_b: f64,
+    sin_b: f64,
+}
+
+impl CubeCell {
+    /// `cos(min(a + b, π))` for the angle `a` whose cosine is `cos_a`, by the angle sum
+    /// identity: no inverse cosine per cell.
+    fn limit(&self, cos_a: f64) -> f64 {
+        // a + b ≥ π exactly when cos a ≤ cos(π − b) = −cos b.
+        if cos_a <= -self.cos_b {
+            return -1.0;
+        }
+        let sin_a = (1.0 - cos_a * cos_a).max(0.0).sqrt();
+        cos_a * self.cos_b - sin_a * self.sin_b
+    }
+}
+
+/// The cells of the cube map, face by face, row by row; they depend on nothing but
+/// [`CUBE_CELLS`], so they are computed once per process.
+fn cube_cells() -> &'static [CubeCell] {
+    static CELLS: std::sync::OnceLock<Vec<CubeCell>> = std::sync::OnceLock::new();
+    CELLS.get_or_init(|| {
+        let n = CUBE_CELLS;
+        let mut cells = Vec::with_capacity(6 * n * n);
+        for face in 0..6 {
+            for i in 0..n {
+                for j in 0..n {
+                    let corner = |di: usize, dj: usize| {
+                        let u = 2.0 * (i + di) as f64 / n as f64 - 1.0;
+                        let v = 2.0 * (j + dj) as f64 / n as f64 - 1.0;
+                        let p = face_point(face, u, v);
+                        scale(p, 1.0 / dot(p, p).sqrt())
+                    };
+                    let corners = [corner(0, 0), corner(1, 0), corner(0, 1), corner(1, 1)];
+                    let sum = corners.iter().fold([0.0; 3], |s, &c| add(s, c));
+                    let centre = scale(sum, 1.0 / dot(sum, sum).sqrt());
+                    let radius = corners
+                        .iter()
+                        .map(|c| angle(centre, *c))
+                        .fold(0.0, f64::max);
+                    let b = 2.0 * radius + 1e-9;
+                    cells.push(CubeCell {
+                        centre,
+                        cos_b: b.cos(),
+                        sin_b: b.sin(),
+                    });
+                }
+            }
+        }
+        cells
+    })
 }
 
 /// The point of cube face `face` at face coordinates `u, v ∈ [−1, 1]`, matching

@@ -6,7 +6,8 @@ use std::sync::mpsc;
 use halfedge_mesh::{HalfEdgeMesh, NO_TWIN};
 use polyextract::{Extractor, Polygon};
 
-use crate::groups::{Assignment, FREE, GroupCounts, Slot, assign};
+use crate::groups::{Assignment, FREE, GroupCounts, Slot};
+use crate::prefetch::prefetch;
 use crate::vec3::{add, corners, cross, dot, scale, sub, unit};
 use crate::{SegmentError, SegmentationConfig};
 
@@ -48,8 +49,6 @@ pub struct SegmentationCounts {
 /// The result of [`segment`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct Segmentation {
-    /// The group of every triangle ([`NO_GROUP`](crate::NO_GROUP) if dropped).
-    pub groups: Vec<u32>,
     /// Segments with their polygons, sorted by (group, seed).
     pub segments: Vec<PlanarSegment>,
     /// Counts per stage.
@@ -58,22 +57,80 @@ pub struct Segmentation {
 
 /// Segments `mesh` by the `dominant` unit normals and extracts a polygon per segment.
 ///
+/// Allocates its working memory per call; [`Segmenter`] keeps it across calls.
+///
 /// # Errors
-/// As [`assign_groups`], and [`SegmentError::Extract`] if a boundary cannot be followed.
+/// As [`assign_groups`](crate::assign_groups), and [`SegmentError::Extract`] if a
+/// boundary cannot be followed.
 pub fn segment(
     mesh: &HalfEdgeMesh,
     dominant: &[[f64; 3]],
     config: &SegmentationConfig,
 ) -> Result<Segmentation, SegmentError> {
+    Segmenter::new().segment(mesh, dominant, config)
+}
+
+/// [`segment`] with its per-triangle working memory (a few bytes per triangle: group,
+/// segment label, offset, volume term) kept across calls, for segmenting a stream of
+/// frames: fresh memory costs page faults on every call. Results do not depend on what
+/// ran before.
+///
+/// ```
+/// use halfedge_mesh::HalfEdgeMesh;
+/// use planeseg::{SegmentationConfig, Segmenter};
+///
+/// let mut segmenter = Segmenter::new();
+/// let config = SegmentationConfig::new().with_min_triangles(1);
+/// for z in [0.0, 1.0, 2.0] {
+///     let mesh = HalfEdgeMesh::from_triangles(
+///         vec![[0.0, 0.0, z], [1.0, 0.0, z], [0.0, 1.0, z]],
+///         vec![[0, 1, 2]],
+///     )?;
+///     let found = segmenter.segment(&mesh, &[[0.0, 0.0, 1.0]], &config)?;
+///     assert_eq!(found.segments[0].centroid[2], z);
+/// }
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+#[derive(Debug, Default)]
+pub struct Segmenter {
+    assignment: Assignment,
+}
+
+impl Segmenter {
+    /// A segmenter with no memory allocated yet.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// As [`segment`], reusing this segmenter's memory.
+    ///
+    /// # Errors
+    /// As [`segment`].
+    pub fn segment(
+        &mut self,
+        mesh: &HalfEdgeMesh,
+        dominant: &[[f64; 3]],
+        config: &SegmentationConfig,
+    ) -> Result<Segmentation, SegmentError> {
+        self.assignment.assign(mesh, dominant, config)?;
+        grow_all(mesh, dominant.len(), config, &self.assignment)
+    }
+}
+
+/// Region growing and polygon extraction after group assignment.
+fn grow_all(
+    mesh: &HalfEdgeMesh,
+    num_groups: usize,
+    config: &SegmentationConfig,
+    assignment: &Assignment,
+) -> Result<Segmentation, SegmentError> {
     let Assignment {
-        groups,
         slots,
         reference,
         buckets,
         counts: group_counts,
-    } = assign(mesh, dominant, config)?;
-
-    let slots = slots.as_slice();
+    } = assignment;
+    let (slots, reference, group_counts) = (slots.as_slice(), *reference, *group_counts);
     let (sender, receiver) = mpsc::channel();
     let grower = Grower {
         mesh,
@@ -83,9 +140,8 @@ pub fn segment(
     };
     // Largest groups first, so that the longest task starts at once.
     let size = |g: usize| buckets.iter().map(|b| b[g].len()).sum::<usize>();
-    let mut by_size: Vec<(usize, usize)> = (0..dominant.len()).map(|g| (size(g), g)).collect();
+    let mut by_size: Vec<(usize, usize)> = (0..num_groups).map(|g| (size(g), g)).collect();
     by_size.sort_by_key(|&(size, g)| (std::cmp::Reverse(size), g));
-    let buckets = &buckets;
     rayon::scope(|scope| {
         for (size, g) in by_size {
             if size == 0 {
@@ -96,22 +152,29 @@ pub fn segment(
             scope.spawn(move |scope| {
                 let mut grown = 0;
                 let mut region = Region::default();
-                for &seed in buckets.iter().flat_map(|b| &b[g]) {
-                    if slots[seed as usize].label.load(Relaxed) != FREE - g as u32 {
-                        continue;
+                // Seeds in triangle order: the chunks' lists of this group, one after another.
+                for bucket in buckets.iter().map(|b| &b[g]) {
+                    for (i, &seed) in bucket.iter().enumerate() {
+                        if let Some(&ahead) = bucket.get(i + PREFETCH_AHEAD) {
+                            prefetch(&slots[ahead as usize]);
+                        }
+                        if slots[seed as usize].label.load(Relaxed) != FREE - g as u32 {
+                            continue;
+                        }
+                        grower.grow(g as u32, seed, &mut region);
+                        grown += 1;
+                        if region.triangles.len() < config.min_triangles.max(1) {
+                            continue;
+                        }
+                        // Copied to its size: the growing buffers stay with this task.
+                        let region = region.clone();
+                        let sender = sender.clone();
+                        scope.spawn(move |_| {
+                            let result = grower.polygon(g as u32, seed, region);
+                            // The receiver outlives the scope, so sending cannot fail.
+                            let _ = sender.send(Outcome::Segment(result));
+                        });
                     }
-                    grower.grow(g as u32, seed, &mut region);
-                    grown += 1;
-                    if region.triangles.len() < config.min_triangles.max(1) {
-                        continue;
-                    }
-                    let region = std::mem::take(&mut region);
-                    let sender = sender.clone();
-                    scope.spawn(move |_| {
-                        let result = grower.polygon(g as u32, seed, region);
-                        // The receiver outlives the scope, so sending cannot fail.
-                        let _ = sender.send(Outcome::Segment(result));
-                    });
                 }
                 let _ = sender.send(Outcome::Grown(grown));
             });
@@ -143,12 +206,12 @@ pub fn segment(
         segments.push(segment);
     }
     counts.segments_too_small = counts.segments_grown - segments.len();
-    Ok(Segmentation {
-        groups,
-        segments,
-        counts,
-    })
+    Ok(Segmentation { segments, counts })
 }
+
+/// How many queued triangles ahead of the one being expanded region growing asks for
+/// the neighbours' slots: far enough for the loads to arrive, near enough to stay cached.
+const PREFETCH_AHEAD: usize = 8;
 
 /// A message from a growing or extraction task.
 enum Outcome {
@@ -159,7 +222,7 @@ enum Outcome {
 }
 
 /// A grown region: its triangles in growing order and its boundary half-edges.
-#[derive(Default)]
+#[derive(Default, Clone)]
 struct Region {
     triangles: Vec<u32>,
     boundary: Vec<u32>,
@@ -206,6 +269,15 @@ impl Grower<'_> {
         let mut next = 0;
         while next < triangles.len() {
             let t = triangles[next] as usize;
+            // The twins of a queued triangle were asked for when it was queued.
+            if let Some(&ahead) = triangles.get(next + PREFETCH_AHEAD) {
+                let a = 3 * ahead as usize;
+                for &tw in &twins[a..a + 3] {
+                    if tw != NO_TWIN {
+                        prefetch(&self.slots[(tw / 3) as usize]);
+                    }
+                }
+            }
             next += 1;
             for (h, &twin) in (3 * t..3 * t + 3).zip(&twins[3 * t..3 * t + 3]) {
                 if twin != NO_TWIN {
@@ -220,6 +292,7 @@ impl Grower<'_> {
                         slot.label.store(seed, Relaxed);
                         *volume += f64::from(slot.volume);
                         triangles.push(n);
+                        prefetch(&twins[3 * n as usize]);
                         continue;
                     }
                 }
@@ -320,7 +393,18 @@ fn boundary_plane(
     let mut area = [0.0; 3];
     // moment[k] = Σ (p + q)[k] (p × q), so that Σ (p + q) ((p × q) · n) = moment · n.
     let mut moment = [[0.0; 3]; 3];
-    for &h in boundary {
+    let tris = mesh.triangles();
+    for (i, &h) in boundary.iter().enumerate() {
+        // Boundary edges are scattered over the mesh: ask for the triangles two steps
+        // of PREFETCH_AHEAD ahead and, once those have arrived, for their corners.
+        if let Some(&far) = boundary.get(i + 2 * PREFETCH_AHEAD) {
+            prefetch(&tris[far as usize / 3]);
+        }
+        if let Some(&near) = boundary.get(i + PREFETCH_AHEAD) {
+            let (origin, destination) = (mesh.origin(near), mesh.destination(near));
+            prefetch(&v[origin as usize]);
+            prefetch(&v[destination as usize]);
+        }
         let (p, q) = (relative(mesh.origin(h)), relative(mesh.destination(h)));
         let pq = cross(p, q);
         area = add(area, pq);

@@ -44,11 +44,14 @@
 mod config;
 mod groups;
 mod grow;
+mod prefetch;
 mod vec3;
 
 pub use config::SegmentationConfig;
 pub use groups::{GroupCounts, NO_GROUP, assign_groups};
-pub use grow::{PlanarSegment, Segmentation, SegmentationCounts, geometric_plane, segment};
+pub use grow::{
+    PlanarSegment, Segmentation, SegmentationCounts, Segmenter, geometric_plane, segment,
+};
 
 use polyextract::ExtractError;
 

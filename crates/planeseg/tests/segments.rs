@@ -3,7 +3,7 @@
 
 use halfedge_mesh::{HalfEdgeMesh, NO_TWIN};
 use planeseg::{
-    NO_GROUP, SegmentError, SegmentationConfig, assign_groups, geometric_plane, segment,
+    NO_GROUP, SegmentError, SegmentationConfig, Segmenter, assign_groups, geometric_plane, segment,
 };
 use proptest::prelude::*;
 
@@ -178,6 +178,41 @@ fn more_than_254_dominant_normals() {
     for (i, s) in found.segments.iter().enumerate() {
         assert_eq!(s.group as usize, i);
         assert_eq!(s.polygon.shell.len(), 4);
+    }
+}
+
+/// A segmenter reused over meshes of different sizes and dominant normals, and after a
+/// failed call, gives what fresh calls give.
+#[test]
+fn a_reused_segmenter_matches_fresh_calls() {
+    let config = SegmentationConfig::new()
+        .with_lmax(2.0)
+        .with_min_triangles(3)
+        .with_z_thresh(0.2);
+    let block = |r: usize, c: usize| f64::from(u8::from((4..9).contains(&r) && c > 6));
+    let len = (0.3f64 * 0.3 * 2.0 + 1.0).sqrt();
+    let ramp = [-0.3 / len, -0.3 / len, 1.0 / len];
+    let cases = [
+        (terrain(20, block), vec![[0.0, 0.0, 1.0]]),
+        (
+            terrain(7, |r, c| 0.3 * (r + c) as f64),
+            vec![[0.0, 0.0, 1.0], ramp],
+        ),
+        (
+            terrain(20, block),
+            vec![[0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+        ),
+    ];
+    let mut segmenter = Segmenter::new();
+    for (mesh, dominant) in cases.iter().chain(&cases) {
+        let reused = segmenter.segment(mesh, dominant, &config).unwrap();
+        assert!(!reused.segments.is_empty());
+        assert_eq!(reused, segment(mesh, dominant, &config).unwrap());
+        assert!(
+            segmenter
+                .segment(mesh, &[[0.0, 0.0, 2.0]], &config)
+                .is_err()
+        );
     }
 }
 

@@ -142,9 +142,14 @@ impl Polylidar {
         };
         counts.dominant_normals = dominant.len();
         let segmentation = config.segmentation();
+        // Taken out of the shared slot for the run, so that concurrent runs do not wait
+        // for each other (one of them then starts with a fresh segmenter).
+        let mut segmenter = std::mem::take(&mut reuse::lock(&self.reuse).segmenter);
         let found = timings.time("planes_polygons", || {
-            planeseg::segment(&mesh, &dominant, &segmentation)
-        })?;
+            segmenter.segment(&mesh, &dominant, &segmentation)
+        });
+        reuse::lock(&self.reuse).segmenter = segmenter;
+        let found = found?;
         let c = found.counts;
         counts.dropped_lmax = c.groups.dropped_lmax;
         counts.dropped_normal = c.groups.dropped_normal;

@@ -1,6 +1,6 @@
 //! What one [`Polylidar`](crate::Polylidar) keeps between runs: the parts of the 3D
 //! pipeline that cost more to build than to use (the FastGA accumulator, the smoothers'
-//! buffers).
+//! and the segmenter's buffers).
 
 use std::sync::{Mutex, MutexGuard, PoisonError};
 
@@ -9,6 +9,7 @@ use mesh_smooth_gpu::{
     Backend, BilateralOptions, CpuSmoother, LaplacianOptions, SlotNormals, SmoothError,
 };
 use opc_mesh::{OpcMesh, OrganizedPointCloud};
+use planeseg::Segmenter;
 
 /// Detectors and buffers reused across runs. Every use starts from a clean state (the
 /// accumulator is cleared, buffers are overwritten), so results do not depend on what ran
@@ -21,6 +22,8 @@ pub(crate) struct Reusable {
     smoothers: [Option<CpuSmoother>; 2],
     /// The bilateral filter's output.
     normals: SlotNormals,
+    /// Planar segmentation's per-triangle buffers.
+    pub segmenter: Segmenter,
 }
 
 /// The shared slot; a run that panicked while holding it left nothing that the next

@@ -4,7 +4,6 @@
 use opc_mesh::OrganizedPointCloud;
 use rayon::prelude::*;
 
-use super::simd::widest;
 use super::{Planes, exp_neg, min_rows_per_task, resize_all};
 use crate::{BilateralOptions, grid::TRIANGLES_PER_CELL};
 
@@ -210,9 +209,16 @@ struct Filter {
     inv_var_angle: f32,
 }
 
-widest! {
-    /// Writes cell row `r` of the next pass (both triangle types) into `out`.
-    fn row(filter: &Filter, r: usize, normals: &[Xyz; 2], types: &[TypePlanes; 2], out: [[&mut [f32]; 3]; 2]) => row_kernel
+/// Writes cell row `r` of the next pass (both triangle types) into `out`.
+#[multiversion::multiversion(targets("x86_64+avx2"))]
+fn row(
+    filter: &Filter,
+    r: usize,
+    normals: &[Xyz; 2],
+    types: &[TypePlanes; 2],
+    out: [[&mut [f32]; 3]; 2],
+) {
+    row_kernel(filter, r, normals, types, out)
 }
 
 /// [`row`] for the baseline target or, inlined, for a wider one.
@@ -312,4 +318,50 @@ fn out_interior(out: [[&mut [f32]; 3]; 2], half: usize, len: usize) -> [[&mut [f
 #[inline]
 fn span(plane: &[f32], start: usize, len: usize) -> &[f32] {
     &plane[start..start + len]
+}
+
+#[cfg(test)]
+mod tests {
+    use rand::{RngExt, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+
+    use super::*;
+
+    /// The row kernel chosen at run time (AVX2 where the CPU has it) gives the bits of
+    /// the kernel as built for the baseline target.
+    #[test]
+    fn dispatched_row_matches_the_baseline_kernel() {
+        let cells = Cells {
+            rows: 6,
+            cols: 29,
+            half: 1,
+        };
+        let n = cells.rows * cells.cols;
+        let mut rng = ChaCha8Rng::seed_from_u64(5);
+        let mut xyz =
+            || -> Xyz { [0, 1, 2].map(|_| (0..n).map(|_| rng.random::<f32>() - 0.5).collect()) };
+        let normals = [xyz(), xyz()];
+        let types = [0, 1].map(|k| TypePlanes {
+            normal: [vec![0.0; n], vec![0.0; n], vec![0.0; n]],
+            centroid: [0, 1, 2].map(|a| (0..n).map(|i| (i * (a + 2) + k) as f32 * 0.01).collect()),
+            mask: (0..n).map(|i| f32::from((i + k) % 7 != 0)).collect(),
+        });
+        let filter = Filter {
+            cells,
+            inv_var_length: 30.0,
+            inv_var_angle: 4.0,
+        };
+        let bits = |v: &[[Vec<f32>; 3]; 2]| -> Vec<u32> {
+            v.iter().flatten().flatten().map(|f| f.to_bits()).collect()
+        };
+        for r in 0..cells.rows {
+            let empty = || [0, 1, 2].map(|_| vec![0.0; cells.cols]);
+            let (mut a, mut b) = ([empty(), empty()], [empty(), empty()]);
+            let [[a0, a1, a2], [a3, a4, a5]] = &mut a;
+            row(&filter, r, &normals, &types, [[a0, a1, a2], [a3, a4, a5]]);
+            let [[b0, b1, b2], [b3, b4, b5]] = &mut b;
+            row_kernel(&filter, r, &normals, &types, [[b0, b1, b2], [b3, b4, b5]]);
+            assert_eq!(bits(&a), bits(&b), "row {r}");
+        }
+    }
 }

@@ -3,7 +3,6 @@
 use opc_mesh::OrganizedPointCloud;
 use rayon::prelude::*;
 
-use super::simd::widest;
 use super::{Planes, min_rows_per_task, resize_all};
 use crate::LaplacianOptions;
 
@@ -94,9 +93,10 @@ struct Grid {
     epsilon: f32,
 }
 
-widest! {
-    /// Writes row `r` of the next pass into `out` and its weight sums into `sums`.
-    fn row(grid: &Grid, r: usize, src: &Source<'_>, out: [&mut [f32]; 3], sums: &mut [f32]) => row_kernel
+/// Writes row `r` of the next pass into `out` and its weight sums into `sums`.
+#[multiversion::multiversion(targets("x86_64+avx2"))]
+fn row(grid: &Grid, r: usize, src: &Source<'_>, out: [&mut [f32]; 3], sums: &mut [f32]) {
+    row_kernel(grid, r, src, out, sums)
 }
 
 /// [`row`] for the baseline target or, inlined, for a wider one.
@@ -173,6 +173,55 @@ fn row_kernel(grid: &Grid, r: usize, src: &Source<'_>, out: [&mut [f32]; 3], sum
             ay[i] = vy[i];
             az[i] = vz[i];
             aw[i] = 0.0;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use rand::{RngExt, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+
+    use super::*;
+
+    /// The row kernel chosen at run time (AVX2 where the CPU has it) gives the bits of
+    /// the kernel as built for the baseline target.
+    #[test]
+    fn dispatched_row_matches_the_baseline_kernel() {
+        let (rows, cols) = (7, 37);
+        let mut rng = ChaCha8Rng::seed_from_u64(3);
+        let mut plane = || -> Vec<f32> { (0..rows * cols).map(|_| rng.random::<f32>()).collect() };
+        let (x, y, z) = (plane(), plane(), plane());
+        let m: Vec<f32> = (0..rows * cols).map(|i| f32::from(i % 5 != 0)).collect();
+        let src = Source {
+            x: &x,
+            y: &y,
+            z: &z,
+            m: &m,
+        };
+        let grid = Grid {
+            rows,
+            cols,
+            half: 2,
+            lambda: 0.7,
+            epsilon: 1e-4,
+        };
+        for r in 0..rows {
+            let mut a = [
+                vec![0.0; cols],
+                vec![0.0; cols],
+                vec![0.0; cols],
+                vec![0.0; cols],
+            ];
+            let mut b = a.clone();
+            let [ax, ay, az, aw] = &mut a;
+            row(&grid, r, &src, [ax, ay, az], aw);
+            let [bx, by, bz, bw] = &mut b;
+            row_kernel(&grid, r, &src, [bx, by, bz], bw);
+            let bits = |v: &[Vec<f32>; 4]| -> Vec<u32> {
+                v.iter().flatten().map(|f| f.to_bits()).collect()
+            };
+            assert_eq!(bits(&a), bits(&b), "row {r}");
         }
     }
 }

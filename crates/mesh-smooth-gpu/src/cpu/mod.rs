@@ -9,7 +9,6 @@
 mod bilateral;
 mod fast_exp;
 mod laplacian;
-mod simd;
 
 pub use smoother::CpuSmoother;
 
