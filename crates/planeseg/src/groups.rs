@@ -281,7 +281,10 @@ impl Kernel<'_> {
                 self.lookup.nearest(normals[l], self.dominant)
             };
             // Also drops a NaN similarity.
-            if !(best_dot >= self.norm_thresh) {
+            if best_dot
+                .partial_cmp(&self.norm_thresh)
+                .is_none_or(|o| o.is_lt())
+            {
                 slots[l] = Slot::none();
                 out.counts.dropped_normal += 1;
                 continue;

@@ -1,5 +1,5 @@
 //! The bilateral normal filter on the implicit right-cut mesh, `f32` planes per triangle
-//! type, one cell row per task.
+//! type, a band of cell rows per task.
 
 use opc_mesh::OrganizedPointCloud;
 use rayon::prelude::*;
@@ -62,33 +62,40 @@ pub(crate) fn bilateral_into(
     }
     if cells.rows > 2 * cells.half && cells.cols > 2 * cells.half && options.iterations > 0 {
         let (inv_var_length, inv_var_angle) = options.inverse_variances();
-        let filter = Filter {
-            cells,
-            inv_var_length,
-            inv_var_angle,
-        };
+        let filter = Filter::new(cells, inv_var_length, inv_var_angle);
         for planes_k in next.iter_mut() {
             resize_all(planes_k, num_cells);
         }
         let types = &*types;
+        let band = if parallel { BAND_ROWS } else { cells.rows } * cells.cols;
         for _ in 0..options.iterations {
             let [[n0x, n0y, n0z], [n1x, n1y, n1z]] = &mut *next;
-            let cc = cells.cols;
             let previous = &*current;
             (
-                n0x.par_chunks_mut(cc),
-                n0y.par_chunks_mut(cc),
-                n0z.par_chunks_mut(cc),
-                n1x.par_chunks_mut(cc),
-                n1y.par_chunks_mut(cc),
-                n1z.par_chunks_mut(cc),
+                n0x.par_chunks_mut(band),
+                n0y.par_chunks_mut(band),
+                n0z.par_chunks_mut(band),
+                n1x.par_chunks_mut(band),
+                n1y.par_chunks_mut(band),
+                n1z.par_chunks_mut(band),
             )
                 .into_par_iter()
                 .enumerate()
                 .with_min_len(min_rows_per_task(parallel))
-                .for_each(|(r, (a, b, c, d, e, f))| {
-                    row(&filter, r, previous, types, [[a, b, c], [d, e, f]]);
-                });
+                .for_each_init(
+                    || filter.ring(),
+                    |ring, (b, (a, b2, c, d, e, f))| {
+                        let first = b * band / cells.cols;
+                        rows_of_band(
+                            &filter,
+                            first,
+                            previous,
+                            types,
+                            ring,
+                            [[a, b2, c], [d, e, f]],
+                        );
+                    },
+                );
             std::mem::swap(current, next);
         }
     }
@@ -203,31 +210,182 @@ struct Cells {
     half: usize,
 }
 
+/// A cell offset of a triangle's neighbour, and where the pair weight is kept.
+#[derive(Clone, Copy)]
+struct Neighbour {
+    /// Cell row and column offsets.
+    dr: isize,
+    dc: isize,
+    /// Index of the forward offset `±(dr, dc)` in [`Filter::forward`].
+    pair: usize,
+    /// Whether `(dr, dc)` itself is forward: the weight sits at the triangle's cell;
+    /// otherwise at the neighbour's (the pair seen from there points forward).
+    forward: bool,
+}
+
 struct Filter {
     cells: Cells,
     inv_var_length: f32,
     inv_var_angle: f32,
+    /// Cell offsets later in raster order than `(0, 0)`, in raster order.
+    forward: Vec<(usize, isize)>,
+    /// All cell offsets but `(0, 0)`, in raster order: the order of the sums.
+    neighbours: Vec<Neighbour>,
 }
 
-/// Writes cell row `r` of the next pass (both triangle types) into `out`.
+impl Filter {
+    fn new(cells: Cells, inv_var_length: f32, inv_var_angle: f32) -> Self {
+        let h = cells.half as isize;
+        let forward: Vec<(usize, isize)> = (0..=h)
+            .flat_map(|dr| (-h..=h).map(move |dc| (dr, dc)))
+            .filter(|&(dr, dc)| dr > 0 || dc > 0)
+            .map(|(dr, dc)| (dr as usize, dc))
+            .collect();
+        let neighbours = (-h..=h)
+            .flat_map(|dr| (-h..=h).map(move |dc| (dr, dc)))
+            .filter(|&offset| offset != (0, 0))
+            .map(|(dr, dc)| {
+                let is_forward = dr > 0 || (dr == 0 && dc > 0);
+                let (fr, fc) = if is_forward { (dr, dc) } else { (-dr, -dc) };
+                let pair = forward
+                    .iter()
+                    .position(|&o| o == (fr as usize, fc))
+                    .unwrap_or_default();
+                Neighbour {
+                    dr,
+                    dc,
+                    pair,
+                    forward: is_forward,
+                }
+            })
+            .collect();
+        Self {
+            cells,
+            inv_var_length,
+            inv_var_angle,
+            forward,
+            neighbours,
+        }
+    }
+
+    /// Room for the pair weights of `half + 1` cell rows.
+    fn ring(&self) -> Vec<f32> {
+        let per_row = self.forward.len() * TRIANGLES_PER_CELL * TRIANGLES_PER_CELL;
+        vec![0.0; (self.cells.half + 1) * per_row * self.cells.cols]
+    }
+
+    /// Where, in the ring, the weights between the type-`k1` triangles of cell row `r`
+    /// and the type-`k2` ones at forward offset `pair` from them start.
+    #[inline(always)]
+    fn ring_row(&self, r: usize, pair: usize, k1: usize, k2: usize) -> usize {
+        let slot = (r % (self.cells.half + 1)) * self.forward.len() + pair;
+        ((slot * TRIANGLES_PER_CELL + k1) * TRIANGLES_PER_CELL + k2) * self.cells.cols
+    }
+}
+
+/// Cell rows per task of the parallel backend. Each task first computes the pair
+/// weights of the `half` rows above its first row; results do not depend on it.
+const BAND_ROWS: usize = 16;
+
+/// Writes the cell rows of the band starting at row `first` (both triangle types) into
+/// `out`, which holds the band's rows.
 #[multiversion::multiversion(targets("x86_64+avx2"))]
-fn row(
+fn rows_of_band(
     filter: &Filter,
-    r: usize,
+    first: usize,
     normals: &[Xyz; 2],
     types: &[TypePlanes; 2],
+    ring: &mut [f32],
     out: [[&mut [f32]; 3]; 2],
 ) {
-    row_kernel(filter, r, normals, types, out)
+    band_kernel(filter, first, normals, types, ring, out)
 }
 
-/// [`row`] for the baseline target or, inlined, for a wider one.
+/// [`rows_of_band`] for the baseline target or, inlined, for a wider one.
+///
+/// The weight of a pair of triangles depends on their centroids' and normals'
+/// distances only, so it is the same seen from either: it is computed once, row by row,
+/// for the offsets that point forward (later in raster order), into a ring of the last
+/// `half + 1` rows. A triangle then finds its forward weights in its own row and its
+/// backward ones in the rows above. That halves the exponentials. The sums run over the
+/// neighbours in raster order as the filter's definition does, so the results are the
+/// bits of the direct computation.
 #[inline(always)]
-fn row_kernel(
+fn band_kernel(
+    filter: &Filter,
+    first: usize,
+    normals: &[Xyz; 2],
+    types: &[TypePlanes; 2],
+    ring: &mut [f32],
+    mut out: [[&mut [f32]; 3]; 2],
+) {
+    let Cells { rows, cols, half } = filter.cells;
+    let last = first + out[0][0].len() / cols;
+    for r in first.saturating_sub(half)..last {
+        // Rows within `half` of the bottom are nobody's backward neighbours.
+        if r + half < rows {
+            pair_weights(filter, r, normals, types, ring);
+        }
+        if r >= first {
+            let at = (r - first) * cols..(r - first + 1) * cols;
+            let row_out = out
+                .each_mut()
+                .map(|planes| planes.each_mut().map(|plane| &mut plane[at.clone()]));
+            output_row(filter, r, normals, types, ring, row_out);
+        }
+    }
+}
+
+/// The weights between cell row `r`'s triangles and those at each forward offset, for
+/// every pair of types, into the ring; pairs reaching past the grid are skipped.
+#[inline(always)]
+fn pair_weights(
     filter: &Filter,
     r: usize,
     normals: &[Xyz; 2],
     types: &[TypePlanes; 2],
+    ring: &mut [f32],
+) {
+    let Cells { rows, cols, .. } = filter.cells;
+    for (pair, &(dr, dc)) in filter.forward.iter().enumerate() {
+        if r + dr >= rows {
+            continue;
+        }
+        // Cells c with c + dc inside the row.
+        let lo = dc.min(0).unsigned_abs();
+        let hi = cols - dc.max(0) as usize;
+        let len = hi - lo;
+        let p = r * cols + lo;
+        let q = ((r + dr) * cols + lo).wrapping_add_signed(dc);
+        for k1 in 0..TRIANGLES_PER_CELL {
+            for k2 in 0..TRIANGLES_PER_CELL {
+                let [pnx, pny, pnz] = normals[k1].each_ref().map(|n| &n[p..p + len]);
+                let [pcx, pcy, pcz] = types[k1].centroid.each_ref().map(|c| &c[p..p + len]);
+                let [qnx, qny, qnz] = normals[k2].each_ref().map(|n| &n[q..q + len]);
+                let [qcx, qcy, qcz] = types[k2].centroid.each_ref().map(|c| &c[q..q + len]);
+                let start = filter.ring_row(r, pair, k1, k2) + lo;
+                let w = &mut ring[start..start + len];
+                for i in 0..len {
+                    let (ex, ey, ez) = (pcx[i] - qcx[i], pcy[i] - qcy[i], pcz[i] - qcz[i]);
+                    let (fx, fy, fz) = (pnx[i] - qnx[i], pny[i] - qny[i], pnz[i] - qnz[i]);
+                    let e = (ex * ex + ey * ey + ez * ez) * filter.inv_var_length
+                        + (fx * fx + fy * fy + fz * fz) * filter.inv_var_angle;
+                    w[i] = exp_neg(e);
+                }
+            }
+        }
+    }
+}
+
+/// Writes cell row `r` of the next pass (both triangle types) into `out`; the ring
+/// holds the pair weights of rows `r − half ..= r`.
+#[inline(always)]
+fn output_row(
+    filter: &Filter,
+    r: usize,
+    normals: &[Xyz; 2],
+    types: &[TypePlanes; 2],
+    ring: &[f32],
     mut out: [[&mut [f32]; 3]; 2],
 ) {
     let Cells { rows, cols, half } = filter.cells;
@@ -248,53 +406,33 @@ fn row_kernel(
         return;
     }
     let own = base + half;
-    for (ko, [ax, ay, az]) in out_interior(out, half, len).into_iter().enumerate() {
-        let [nx, ny, nz] = &normals[ko];
-        let [cx, cy, cz] = &types[ko].centroid;
-        let (nx, ny, nz) = (
-            &nx[own..own + len],
-            &ny[own..own + len],
-            &nz[own..own + len],
-        );
-        let (cx, cy, cz) = (
-            &cx[own..own + len],
-            &cy[own..own + len],
-            &cz[own..own + len],
-        );
-        let om = &types[ko].mask[own..own + len];
+    for (ko, planes) in out.iter_mut().enumerate() {
+        let [ax, ay, az] = planes.each_mut().map(|o| &mut o[half..half + len]);
         ax.fill(0.0);
         ay.fill(0.0);
         az.fill(0.0);
-        let k = 2 * half + 1;
-        for dr in 0..k {
-            for dc in 0..k {
-                if dr == half && dc == half {
-                    continue;
-                }
-                let start = (r + dr - half) * cols + dc;
-                for kn in 0..TRIANGLES_PER_CELL {
-                    let [qnx, qny, qnz] = &normals[kn];
-                    let [qcx, qcy, qcz] = &types[kn].centroid;
-                    let qnx = &qnx[start..start + len];
-                    let qny = &qny[start..start + len];
-                    let qnz = &qnz[start..start + len];
-                    let qcx = &qcx[start..start + len];
-                    let qcy = &qcy[start..start + len];
-                    let qcz = &qcz[start..start + len];
-                    let qm = &types[kn].mask[start..start + len];
-                    for i in 0..len {
-                        let (ex, ey, ez) = (cx[i] - qcx[i], cy[i] - qcy[i], cz[i] - qcz[i]);
-                        let (fx, fy, fz) = (nx[i] - qnx[i], ny[i] - qny[i], nz[i] - qnz[i]);
-                        let e = (ex * ex + ey * ey + ez * ez) * filter.inv_var_length
-                            + (fx * fx + fy * fy + fz * fz) * filter.inv_var_angle;
-                        let w = qm[i] * exp_neg(e);
-                        ax[i] += w * qnx[i];
-                        ay[i] += w * qny[i];
-                        az[i] += w * qnz[i];
-                    }
+        for nb in &filter.neighbours {
+            let q = own.wrapping_add_signed(nb.dr * cols as isize + nb.dc);
+            for kn in 0..TRIANGLES_PER_CELL {
+                let w = if nb.forward {
+                    filter.ring_row(r, nb.pair, ko, kn) + half
+                } else {
+                    let row = r.wrapping_add_signed(nb.dr);
+                    (filter.ring_row(row, nb.pair, kn, ko) + half).wrapping_add_signed(nb.dc)
+                };
+                let w = &ring[w..w + len];
+                let [qnx, qny, qnz] = normals[kn].each_ref().map(|n| &n[q..q + len]);
+                let qm = &types[kn].mask[q..q + len];
+                for i in 0..len {
+                    let w = qm[i] * w[i];
+                    ax[i] += w * qnx[i];
+                    ay[i] += w * qny[i];
+                    az[i] += w * qnz[i];
                 }
             }
         }
+        let [nx, ny, nz] = normals[ko].each_ref().map(|n| &n[own..own + len]);
+        let om = &types[ko].mask[own..own + len];
         for i in 0..len {
             let s = (ax[i] * ax[i] + ay[i] * ay[i] + az[i] * az[i]).sqrt();
             let (x, y, z) = if om[i] > 0.0 && s > 0.0 {
@@ -307,11 +445,6 @@ fn row_kernel(
             az[i] = z;
         }
     }
-}
-
-/// The interior columns `[half, half + len)` of each output row.
-fn out_interior(out: [[&mut [f32]; 3]; 2], half: usize, len: usize) -> [[&mut [f32]; 3]; 2] {
-    out.map(|planes| planes.map(|o| &mut o[half..half + len]))
 }
 
 /// `plane[start..start + len]`.
@@ -327,41 +460,153 @@ mod tests {
 
     use super::*;
 
-    /// The row kernel chosen at run time (AVX2 where the CPU has it) gives the bits of
-    /// the kernel as built for the baseline target.
-    #[test]
-    fn dispatched_row_matches_the_baseline_kernel() {
-        let cells = Cells {
-            rows: 6,
-            cols: 29,
-            half: 1,
-        };
+    /// The filter's row as first written: each weight computed where it is used.
+    fn reference_row(
+        filter: &Filter,
+        r: usize,
+        normals: &[Xyz; 2],
+        types: &[TypePlanes; 2],
+        mut out: [[&mut [f32]; 3]; 2],
+    ) {
+        let Cells { rows, cols, half } = filter.cells;
+        let base = r * cols;
+        let border_row = r < half || r + half >= rows;
+        let len = cols - 2 * half;
+        for (ko, planes) in out.iter_mut().enumerate() {
+            for (o, n) in planes.iter_mut().zip(&normals[ko]) {
+                if border_row {
+                    o.copy_from_slice(&n[base..base + cols]);
+                } else {
+                    o[..half].copy_from_slice(&n[base..base + half]);
+                    o[half + len..].copy_from_slice(&n[base + half + len..base + cols]);
+                }
+            }
+        }
+        if border_row {
+            return;
+        }
+        let own = base + half;
+        for (ko, [ax, ay, az]) in out_interior(out, half, len).into_iter().enumerate() {
+            let [nx, ny, nz] = &normals[ko];
+            let [cx, cy, cz] = &types[ko].centroid;
+            let (nx, ny, nz) = (
+                &nx[own..own + len],
+                &ny[own..own + len],
+                &nz[own..own + len],
+            );
+            let (cx, cy, cz) = (
+                &cx[own..own + len],
+                &cy[own..own + len],
+                &cz[own..own + len],
+            );
+            let om = &types[ko].mask[own..own + len];
+            ax.fill(0.0);
+            ay.fill(0.0);
+            az.fill(0.0);
+            let k = 2 * half + 1;
+            for dr in 0..k {
+                for dc in 0..k {
+                    if dr == half && dc == half {
+                        continue;
+                    }
+                    let start = (r + dr - half) * cols + dc;
+                    for kn in 0..TRIANGLES_PER_CELL {
+                        let [qnx, qny, qnz] = &normals[kn];
+                        let [qcx, qcy, qcz] = &types[kn].centroid;
+                        let qnx = &qnx[start..start + len];
+                        let qny = &qny[start..start + len];
+                        let qnz = &qnz[start..start + len];
+                        let qcx = &qcx[start..start + len];
+                        let qcy = &qcy[start..start + len];
+                        let qcz = &qcz[start..start + len];
+                        let qm = &types[kn].mask[start..start + len];
+                        for i in 0..len {
+                            let (ex, ey, ez) = (cx[i] - qcx[i], cy[i] - qcy[i], cz[i] - qcz[i]);
+                            let (fx, fy, fz) = (nx[i] - qnx[i], ny[i] - qny[i], nz[i] - qnz[i]);
+                            let e = (ex * ex + ey * ey + ez * ez) * filter.inv_var_length
+                                + (fx * fx + fy * fy + fz * fz) * filter.inv_var_angle;
+                            let w = qm[i] * exp_neg(e);
+                            ax[i] += w * qnx[i];
+                            ay[i] += w * qny[i];
+                            az[i] += w * qnz[i];
+                        }
+                    }
+                }
+            }
+            for i in 0..len {
+                let s = (ax[i] * ax[i] + ay[i] * ay[i] + az[i] * az[i]).sqrt();
+                let (x, y, z) = if om[i] > 0.0 && s > 0.0 {
+                    (ax[i] / s, ay[i] / s, az[i] / s)
+                } else {
+                    (nx[i], ny[i], nz[i])
+                };
+                ax[i] = x;
+                ay[i] = y;
+                az[i] = z;
+            }
+        }
+    }
+
+    /// The interior columns `[half, half + len)` of each output row.
+    fn out_interior(out: [[&mut [f32]; 3]; 2], half: usize, len: usize) -> [[&mut [f32]; 3]; 2] {
+        out.map(|planes| planes.map(|o| &mut o[half..half + len]))
+    }
+
+    /// Random normals, centroids and masks on a grid of cells.
+    fn random_planes(cells: Cells, seed: u64) -> ([Xyz; 2], [TypePlanes; 2]) {
         let n = cells.rows * cells.cols;
-        let mut rng = ChaCha8Rng::seed_from_u64(5);
-        let mut xyz =
-            || -> Xyz { [0, 1, 2].map(|_| (0..n).map(|_| rng.random::<f32>() - 0.5).collect()) };
-        let normals = [xyz(), xyz()];
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let mut plane = |scale: f32| -> Vec<f32> {
+            (0..n)
+                .map(|_| scale * (rng.random::<f32>() - 0.5))
+                .collect()
+        };
+        let normals = [0, 1].map(|_| [plane(1.0), plane(1.0), plane(1.0)]);
         let types = [0, 1].map(|k| TypePlanes {
             normal: [vec![0.0; n], vec![0.0; n], vec![0.0; n]],
-            centroid: [0, 1, 2].map(|a| (0..n).map(|i| (i * (a + 2) + k) as f32 * 0.01).collect()),
+            centroid: [plane(0.4), plane(0.4), plane(0.4)],
             mask: (0..n).map(|i| f32::from((i + k) % 7 != 0)).collect(),
         });
-        let filter = Filter {
-            cells,
-            inv_var_length: 30.0,
-            inv_var_angle: 4.0,
-        };
-        let bits = |v: &[[Vec<f32>; 3]; 2]| -> Vec<u32> {
-            v.iter().flatten().flatten().map(|f| f.to_bits()).collect()
-        };
-        for r in 0..cells.rows {
-            let empty = || [0, 1, 2].map(|_| vec![0.0; cells.cols]);
-            let (mut a, mut b) = ([empty(), empty()], [empty(), empty()]);
-            let [[a0, a1, a2], [a3, a4, a5]] = &mut a;
-            row(&filter, r, &normals, &types, [[a0, a1, a2], [a3, a4, a5]]);
-            let [[b0, b1, b2], [b3, b4, b5]] = &mut b;
-            row_kernel(&filter, r, &normals, &types, [[b0, b1, b2], [b3, b4, b5]]);
-            assert_eq!(bits(&a), bits(&b), "row {r}");
+        (normals, types)
+    }
+
+    /// Bands of every start and size, with the weights shared between rows and types,
+    /// give the bits of the direct computation, row by row, for several kernels and
+    /// grids narrower and wider than the kernel.
+    #[test]
+    fn bands_match_the_direct_computation() {
+        for (rows, cols, half) in [(6, 29, 1), (9, 7, 2), (12, 40, 2), (8, 3, 1), (11, 17, 3)] {
+            let cells = Cells { rows, cols, half };
+            let (normals, types) = random_planes(cells, (rows * cols) as u64);
+            let filter = Filter::new(cells, 30.0, 4.0);
+            let empty = |n: usize| [0, 1].map(|_| [0, 1, 2].map(|_| vec![0.0f32; n]));
+            let mut expected = empty(rows * cols);
+            for r in 0..rows {
+                let at = r * cols..(r + 1) * cols;
+                let out = expected
+                    .each_mut()
+                    .map(|planes| planes.each_mut().map(|p| &mut p[at.clone()]));
+                reference_row(&filter, r, &normals, &types, out);
+            }
+            for band in [1, 2, 5, rows] {
+                let mut got = empty(rows * cols);
+                let mut ring = filter.ring();
+                for first in (0..rows).step_by(band) {
+                    let at = first * cols..(first + band).min(rows) * cols;
+                    let out = got
+                        .each_mut()
+                        .map(|planes| planes.each_mut().map(|p| &mut p[at.clone()]));
+                    rows_of_band(&filter, first, &normals, &types, &mut ring, out);
+                }
+                let bits = |v: &[[Vec<f32>; 3]; 2]| -> Vec<u32> {
+                    v.iter().flatten().flatten().map(|f| f.to_bits()).collect()
+                };
+                assert_eq!(
+                    bits(&got),
+                    bits(&expected),
+                    "{rows}×{cols}, half {half}, band {band}"
+                );
+            }
         }
     }
 }
