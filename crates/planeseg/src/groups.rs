@@ -1,7 +1,7 @@
 //! Group assignment (Alg. 4).
 
-use std::sync::atomic::AtomicU32;
 use std::sync::atomic::Ordering::Relaxed;
+use std::sync::atomic::{AtomicU8, AtomicU32};
 
 use halfedge_mesh::HalfEdgeMesh;
 use rayon::prelude::*;
@@ -73,6 +73,10 @@ pub(crate) struct Assignment {
     /// group `g` among triangles `c · CHUNK ..`, so that group `g`'s triangles are the
     /// concatenation of `buckets[..][g]`.
     pub buckets: Vec<Vec<Vec<u32>>>,
+    /// Per triangle, 1 once in a segment, else 0: the seed scan's view of the labels, a
+    /// byte per triangle that stays cached where the slots do not. Like a label, only
+    /// the task of the triangle's group writes it.
+    pub taken: Vec<AtomicU8>,
     pub counts: GroupCounts,
 }
 
@@ -143,6 +147,8 @@ impl Assignment {
         let n = mesh.num_triangles();
         self.slots.truncate(n);
         self.slots.resize_with(n, Slot::none);
+        self.taken.truncate(n);
+        self.taken.resize_with(n, AtomicU8::default);
         self.buckets.resize_with(n.div_ceil(CHUNK), Vec::new);
         self.buckets.truncate(n.div_ceil(CHUNK));
         self.counts = self
@@ -151,8 +157,10 @@ impl Assignment {
             .zip(mesh.triangles().par_chunks(CHUNK))
             .zip(normals.par_chunks(CHUNK))
             .zip(self.buckets.par_iter_mut())
+            .zip(self.taken.par_chunks_mut(CHUNK))
             .enumerate()
-            .map(|(c, (((slots, tris), normals), buckets))| {
+            .map(|(c, ((((slots, tris), normals), buckets), taken))| {
+                taken.iter_mut().for_each(|t| *t.get_mut() = 0);
                 buckets.resize_with(dominant.len(), Vec::new);
                 buckets.truncate(dominant.len());
                 buckets.iter_mut().for_each(Vec::clear);

@@ -1,5 +1,6 @@
 //! Region growing per dominant normal (Alg. 5) with overlapped polygon extraction.
 
+use std::sync::atomic::AtomicU8;
 use std::sync::atomic::Ordering::Relaxed;
 use std::sync::mpsc;
 
@@ -128,13 +129,15 @@ fn grow_all(
         slots,
         reference,
         buckets,
+        taken,
         counts: group_counts,
     } = assignment;
-    let (slots, reference, group_counts) = (slots.as_slice(), *reference, *group_counts);
+    let (reference, group_counts) = (*reference, *group_counts);
     let (sender, receiver) = mpsc::channel();
     let grower = Grower {
         mesh,
         slots,
+        taken,
         reference,
         config,
     };
@@ -156,9 +159,9 @@ fn grow_all(
                 for bucket in buckets.iter().map(|b| &b[g]) {
                     for (i, &seed) in bucket.iter().enumerate() {
                         if let Some(&ahead) = bucket.get(i + PREFETCH_AHEAD) {
-                            prefetch(&slots[ahead as usize]);
+                            prefetch(&taken[ahead as usize]);
                         }
-                        if slots[seed as usize].label.load(Relaxed) != FREE - g as u32 {
+                        if taken[seed as usize].load(Relaxed) != 0 {
                             continue;
                         }
                         grower.grow(g as u32, seed, &mut region);
@@ -235,6 +238,8 @@ struct Grower<'a> {
     mesh: &'a HalfEdgeMesh,
     /// Per triangle: label, offset and volume term.
     slots: &'a [Slot],
+    /// Per triangle, whether it is in a segment yet (see [`Assignment::taken`]).
+    taken: &'a [AtomicU8],
     reference: [f64; 3],
     config: &'a SegmentationConfig,
 }
@@ -264,6 +269,7 @@ impl Grower<'_> {
         let twins = self.mesh.halfedges();
         let free = FREE - g;
         first.label.store(seed, Relaxed);
+        self.taken[seed as usize].store(1, Relaxed);
         *volume = f64::from(first.volume);
         triangles.push(seed);
         let mut next = 0;
@@ -290,6 +296,7 @@ impl Grower<'_> {
                     // Not `> z_thresh`: a NaN offset must fail too.
                     if label == free && (slot.offset - plane).abs() <= z_thresh {
                         slot.label.store(seed, Relaxed);
+                        self.taken[n as usize].store(1, Relaxed);
                         *volume += f64::from(slot.volume);
                         triangles.push(n);
                         prefetch(&twins[3 * n as usize]);

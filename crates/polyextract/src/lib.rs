@@ -306,7 +306,12 @@ impl Extractor {
         project: &impl Fn(u32) -> [f64; 2],
     ) -> Option<usize> {
         let lo = self.edges.partition_point(|e| e.origin < point);
-        let hi = lo + self.edges[lo..].partition_point(|e| e.origin == point);
+        // Most points start one or two boundary edges: a scan beats a second search.
+        let hi = lo
+            + self.edges[lo..]
+                .iter()
+                .position(|e| e.origin != point)
+                .unwrap_or(self.edges.len() - lo);
         let mut candidates = (lo..hi).filter(|&k| !self.used[k]);
         let first = candidates.next()?;
         let Some(second) = candidates.next() else {
