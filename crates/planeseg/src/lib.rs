@@ -15,7 +15,8 @@
 //!
 //! Groups are `u32`, so any number of dominant normals works (the original's `u8` labels
 //! stop at 254). Results are sorted by (group, seed triangle) and do not depend on the
-//! thread count.
+//! thread count. [`Segmenter`] keeps the working memory between calls, for frame-by-frame
+//! use; [`segment`] allocates it per call.
 //!
 //! ```
 //! use halfedge_mesh::HalfEdgeMesh;
