@@ -268,10 +268,29 @@ impl Filter {
         }
     }
 
-    /// Room for the pair weights of `half + 1` cell rows.
+    /// Whether pair weights are shared through a ring: up to kernel 7, where the ring
+    /// holds at most 384 rows of weights. Larger kernels compute each weight where it is
+    /// used, in no more memory than the planes.
+    fn shares_pairs(&self) -> bool {
+        self.cells.half <= 3
+    }
+
+    /// Room for the pair weights of `half + 1` cell rows (none without sharing).
     fn ring(&self) -> Vec<f32> {
+        if !self.shares_pairs() {
+            return Vec::new();
+        }
         let per_row = self.forward.len() * TRIANGLES_PER_CELL * TRIANGLES_PER_CELL;
         vec![0.0; (self.cells.half + 1) * per_row * self.cells.cols]
+    }
+
+    /// The weight of a pair of triangles from their centroids' and normals' differences.
+    #[inline(always)]
+    fn weight(&self, [ex, ey, ez]: [f32; 3], [fx, fy, fz]: [f32; 3]) -> f32 {
+        exp_neg(
+            (ex * ex + ey * ey + ez * ez) * self.inv_var_length
+                + (fx * fx + fy * fy + fz * fz) * self.inv_var_angle,
+        )
     }
 
     /// Where, in the ring, the weights between the type-`k1` triangles of cell row `r`
@@ -289,19 +308,6 @@ const BAND_ROWS: usize = 16;
 
 /// Writes the cell rows of the band starting at row `first` (both triangle types) into
 /// `out`, which holds the band's rows.
-#[multiversion::multiversion(targets("x86_64+avx2"))]
-fn rows_of_band(
-    filter: &Filter,
-    first: usize,
-    normals: &[Xyz; 2],
-    types: &[TypePlanes; 2],
-    ring: &mut [f32],
-    out: [[&mut [f32]; 3]; 2],
-) {
-    band_kernel(filter, first, normals, types, ring, out)
-}
-
-/// [`rows_of_band`] for the baseline target or, inlined, for a wider one.
 ///
 /// The weight of a pair of triangles depends on their centroids' and normals'
 /// distances only, so it is the same seen from either: it is computed once, row by row,
@@ -309,9 +315,10 @@ fn rows_of_band(
 /// `half + 1` rows. A triangle then finds its forward weights in its own row and its
 /// backward ones in the rows above. That halves the exponentials. The sums run over the
 /// neighbours in raster order as the filter's definition does, so the results are the
-/// bits of the direct computation.
-#[inline(always)]
-fn band_kernel(
+/// bits of the direct computation ([`direct_row`], which kernels too large for the
+/// ring use).
+#[multiversion::multiversion(targets("x86_64+avx2"))]
+fn rows_of_band(
     filter: &Filter,
     first: usize,
     normals: &[Xyz; 2],
@@ -321,9 +328,15 @@ fn band_kernel(
 ) {
     let Cells { rows, cols, half } = filter.cells;
     let last = first + out[0][0].len() / cols;
-    for r in first.saturating_sub(half)..last {
+    let shared = filter.shares_pairs();
+    let start = if shared {
+        first.saturating_sub(half)
+    } else {
+        first
+    };
+    for r in start..last {
         // Rows within `half` of the bottom are nobody's backward neighbours.
-        if r + half < rows {
+        if shared && r + half < rows {
             pair_weights(filter, r, normals, types, ring);
         }
         if r >= first {
@@ -331,7 +344,11 @@ fn band_kernel(
             let row_out = out
                 .each_mut()
                 .map(|planes| planes.each_mut().map(|plane| &mut plane[at.clone()]));
-            output_row(filter, r, normals, types, ring, row_out);
+            if shared {
+                output_row(filter, r, normals, types, ring, row_out);
+            } else {
+                direct_row(filter, r, normals, types, row_out);
+            }
         }
     }
 }
@@ -366,11 +383,10 @@ fn pair_weights(
                 let start = filter.ring_row(r, pair, k1, k2) + lo;
                 let w = &mut ring[start..start + len];
                 for i in 0..len {
-                    let (ex, ey, ez) = (pcx[i] - qcx[i], pcy[i] - qcy[i], pcz[i] - qcz[i]);
-                    let (fx, fy, fz) = (pnx[i] - qnx[i], pny[i] - qny[i], pnz[i] - qnz[i]);
-                    let e = (ex * ex + ey * ey + ez * ez) * filter.inv_var_length
-                        + (fx * fx + fy * fy + fz * fz) * filter.inv_var_angle;
-                    w[i] = exp_neg(e);
+                    w[i] = filter.weight(
+                        [pcx[i] - qcx[i], pcy[i] - qcy[i], pcz[i] - qcz[i]],
+                        [pnx[i] - qnx[i], pny[i] - qny[i], pnz[i] - qnz[i]],
+                    );
                 }
             }
         }
@@ -388,24 +404,11 @@ fn output_row(
     ring: &[f32],
     mut out: [[&mut [f32]; 3]; 2],
 ) {
-    let Cells { rows, cols, half } = filter.cells;
-    let base = r * cols;
-    let border_row = r < half || r + half >= rows;
-    let len = cols - 2 * half;
-    for (ko, planes) in out.iter_mut().enumerate() {
-        for (o, n) in planes.iter_mut().zip(&normals[ko]) {
-            if border_row {
-                o.copy_from_slice(&n[base..base + cols]);
-            } else {
-                o[..half].copy_from_slice(&n[base..base + half]);
-                o[half + len..].copy_from_slice(&n[base + half + len..base + cols]);
-            }
-        }
-    }
-    if border_row {
+    let Some(own) = copy_borders(filter.cells, r, normals, &mut out) else {
         return;
-    }
-    let own = base + half;
+    };
+    let Cells { cols, half, .. } = filter.cells;
+    let len = cols - 2 * half;
     for (ko, planes) in out.iter_mut().enumerate() {
         let [ax, ay, az] = planes.each_mut().map(|o| &mut o[half..half + len]);
         ax.fill(0.0);
@@ -431,19 +434,98 @@ fn output_row(
                 }
             }
         }
+        normalize([ax, ay, az], own, &normals[ko], &types[ko].mask);
+    }
+}
+
+/// [`output_row`] with each weight computed where it is used: the filter's definition,
+/// for kernels too large to share weights.
+#[inline(always)]
+fn direct_row(
+    filter: &Filter,
+    r: usize,
+    normals: &[Xyz; 2],
+    types: &[TypePlanes; 2],
+    mut out: [[&mut [f32]; 3]; 2],
+) {
+    let Some(own) = copy_borders(filter.cells, r, normals, &mut out) else {
+        return;
+    };
+    let Cells { cols, half, .. } = filter.cells;
+    let len = cols - 2 * half;
+    for (ko, planes) in out.iter_mut().enumerate() {
+        let [ax, ay, az] = planes.each_mut().map(|o| &mut o[half..half + len]);
+        ax.fill(0.0);
+        ay.fill(0.0);
+        az.fill(0.0);
         let [nx, ny, nz] = normals[ko].each_ref().map(|n| &n[own..own + len]);
-        let om = &types[ko].mask[own..own + len];
-        for i in 0..len {
-            let s = (ax[i] * ax[i] + ay[i] * ay[i] + az[i] * az[i]).sqrt();
-            let (x, y, z) = if om[i] > 0.0 && s > 0.0 {
-                (ax[i] / s, ay[i] / s, az[i] / s)
-            } else {
-                (nx[i], ny[i], nz[i])
-            };
-            ax[i] = x;
-            ay[i] = y;
-            az[i] = z;
+        let [cx, cy, cz] = types[ko].centroid.each_ref().map(|c| &c[own..own + len]);
+        for nb in &filter.neighbours {
+            let q = own.wrapping_add_signed(nb.dr * cols as isize + nb.dc);
+            for kn in 0..TRIANGLES_PER_CELL {
+                let [qnx, qny, qnz] = normals[kn].each_ref().map(|n| &n[q..q + len]);
+                let [qcx, qcy, qcz] = types[kn].centroid.each_ref().map(|c| &c[q..q + len]);
+                let qm = &types[kn].mask[q..q + len];
+                for i in 0..len {
+                    let w = qm[i]
+                        * filter.weight(
+                            [cx[i] - qcx[i], cy[i] - qcy[i], cz[i] - qcz[i]],
+                            [nx[i] - qnx[i], ny[i] - qny[i], nz[i] - qnz[i]],
+                        );
+                    ax[i] += w * qnx[i];
+                    ay[i] += w * qny[i];
+                    az[i] += w * qnz[i];
+                }
+            }
         }
+        normalize([ax, ay, az], own, &normals[ko], &types[ko].mask);
+    }
+}
+
+/// Copies the normals of row `r`'s border cells (all of a border row) into `out`;
+/// `Some(first interior cell)` unless the row is a border row.
+#[inline(always)]
+fn copy_borders(
+    cells: Cells,
+    r: usize,
+    normals: &[Xyz; 2],
+    out: &mut [[&mut [f32]; 3]; 2],
+) -> Option<usize> {
+    let Cells { rows, cols, half } = cells;
+    let base = r * cols;
+    let border_row = r < half || r + half >= rows;
+    for (planes, normals) in out.iter_mut().zip(normals) {
+        for (o, n) in planes.iter_mut().zip(normals) {
+            let n = &n[base..base + cols];
+            if border_row {
+                o.copy_from_slice(n);
+            } else {
+                o[..half].copy_from_slice(&n[..half]);
+                o[cols - half..].copy_from_slice(&n[cols - half..]);
+            }
+        }
+    }
+    (!border_row).then_some(base + half)
+}
+
+/// Turns the weighted sums `a` of the interior cells from `own` into unit normals;
+/// a missing triangle, or one whose sum vanishes, keeps its normal.
+#[inline(always)]
+fn normalize(a: [&mut [f32]; 3], own: usize, normals: &Xyz, mask: &[f32]) {
+    let [ax, ay, az] = a;
+    let len = ax.len();
+    let [nx, ny, nz] = normals.each_ref().map(|n| &n[own..own + len]);
+    let om = &mask[own..own + len];
+    for i in 0..len {
+        let s = (ax[i] * ax[i] + ay[i] * ay[i] + az[i] * az[i]).sqrt();
+        let (x, y, z) = if om[i] > 0.0 && s > 0.0 {
+            (ax[i] / s, ay[i] / s, az[i] / s)
+        } else {
+            (nx[i], ny[i], nz[i])
+        };
+        ax[i] = x;
+        ay[i] = y;
+        az[i] = z;
     }
 }
 
@@ -459,98 +541,6 @@ mod tests {
     use rand_chacha::ChaCha8Rng;
 
     use super::*;
-
-    /// The filter's row as first written: each weight computed where it is used.
-    fn reference_row(
-        filter: &Filter,
-        r: usize,
-        normals: &[Xyz; 2],
-        types: &[TypePlanes; 2],
-        mut out: [[&mut [f32]; 3]; 2],
-    ) {
-        let Cells { rows, cols, half } = filter.cells;
-        let base = r * cols;
-        let border_row = r < half || r + half >= rows;
-        let len = cols - 2 * half;
-        for (ko, planes) in out.iter_mut().enumerate() {
-            for (o, n) in planes.iter_mut().zip(&normals[ko]) {
-                if border_row {
-                    o.copy_from_slice(&n[base..base + cols]);
-                } else {
-                    o[..half].copy_from_slice(&n[base..base + half]);
-                    o[half + len..].copy_from_slice(&n[base + half + len..base + cols]);
-                }
-            }
-        }
-        if border_row {
-            return;
-        }
-        let own = base + half;
-        for (ko, [ax, ay, az]) in out_interior(out, half, len).into_iter().enumerate() {
-            let [nx, ny, nz] = &normals[ko];
-            let [cx, cy, cz] = &types[ko].centroid;
-            let (nx, ny, nz) = (
-                &nx[own..own + len],
-                &ny[own..own + len],
-                &nz[own..own + len],
-            );
-            let (cx, cy, cz) = (
-                &cx[own..own + len],
-                &cy[own..own + len],
-                &cz[own..own + len],
-            );
-            let om = &types[ko].mask[own..own + len];
-            ax.fill(0.0);
-            ay.fill(0.0);
-            az.fill(0.0);
-            let k = 2 * half + 1;
-            for dr in 0..k {
-                for dc in 0..k {
-                    if dr == half && dc == half {
-                        continue;
-                    }
-                    let start = (r + dr - half) * cols + dc;
-                    for kn in 0..TRIANGLES_PER_CELL {
-                        let [qnx, qny, qnz] = &normals[kn];
-                        let [qcx, qcy, qcz] = &types[kn].centroid;
-                        let qnx = &qnx[start..start + len];
-                        let qny = &qny[start..start + len];
-                        let qnz = &qnz[start..start + len];
-                        let qcx = &qcx[start..start + len];
-                        let qcy = &qcy[start..start + len];
-                        let qcz = &qcz[start..start + len];
-                        let qm = &types[kn].mask[start..start + len];
-                        for i in 0..len {
-                            let (ex, ey, ez) = (cx[i] - qcx[i], cy[i] - qcy[i], cz[i] - qcz[i]);
-                            let (fx, fy, fz) = (nx[i] - qnx[i], ny[i] - qny[i], nz[i] - qnz[i]);
-                            let e = (ex * ex + ey * ey + ez * ez) * filter.inv_var_length
-                                + (fx * fx + fy * fy + fz * fz) * filter.inv_var_angle;
-                            let w = qm[i] * exp_neg(e);
-                            ax[i] += w * qnx[i];
-                            ay[i] += w * qny[i];
-                            az[i] += w * qnz[i];
-                        }
-                    }
-                }
-            }
-            for i in 0..len {
-                let s = (ax[i] * ax[i] + ay[i] * ay[i] + az[i] * az[i]).sqrt();
-                let (x, y, z) = if om[i] > 0.0 && s > 0.0 {
-                    (ax[i] / s, ay[i] / s, az[i] / s)
-                } else {
-                    (nx[i], ny[i], nz[i])
-                };
-                ax[i] = x;
-                ay[i] = y;
-                az[i] = z;
-            }
-        }
-    }
-
-    /// The interior columns `[half, half + len)` of each output row.
-    fn out_interior(out: [[&mut [f32]; 3]; 2], half: usize, len: usize) -> [[&mut [f32]; 3]; 2] {
-        out.map(|planes| planes.map(|o| &mut o[half..half + len]))
-    }
 
     /// Random normals, centroids and masks on a grid of cells.
     fn random_planes(cells: Cells, seed: u64) -> ([Xyz; 2], [TypePlanes; 2]) {
@@ -571,8 +561,8 @@ mod tests {
     }
 
     /// Bands of every start and size, with the weights shared between rows and types,
-    /// give the bits of the direct computation, row by row, for several kernels and
-    /// grids narrower and wider than the kernel.
+    /// give the bits of the direct computation, row by row, for every kernel that
+    /// shares weights and grids narrower and wider than the kernel.
     #[test]
     fn bands_match_the_direct_computation() {
         for (rows, cols, half) in [(6, 29, 1), (9, 7, 2), (12, 40, 2), (8, 3, 1), (11, 17, 3)] {
@@ -586,7 +576,7 @@ mod tests {
                 let out = expected
                     .each_mut()
                     .map(|planes| planes.each_mut().map(|p| &mut p[at.clone()]));
-                reference_row(&filter, r, &normals, &types, out);
+                direct_row(&filter, r, &normals, &types, out);
             }
             for band in [1, 2, 5, rows] {
                 let mut got = empty(rows * cols);
