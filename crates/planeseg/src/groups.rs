@@ -145,12 +145,9 @@ impl Assignment {
             reference: self.reference,
         };
         let n = mesh.num_triangles();
-        self.slots.truncate(n);
         self.slots.resize_with(n, Slot::none);
-        self.taken.truncate(n);
         self.taken.resize_with(n, AtomicU8::default);
         self.buckets.resize_with(n.div_ceil(CHUNK), Vec::new);
-        self.buckets.truncate(n.div_ceil(CHUNK));
         self.counts = self
             .slots
             .par_chunks_mut(CHUNK)
@@ -162,7 +159,6 @@ impl Assignment {
             .map(|(c, ((((slots, tris), normals), buckets), taken))| {
                 taken.iter_mut().for_each(|t| *t.get_mut() = 0);
                 buckets.resize_with(dominant.len(), Vec::new);
-                buckets.truncate(dominant.len());
                 buckets.iter_mut().for_each(Vec::clear);
                 chunk(&kernel, (c * CHUNK) as u32, tris, normals, slots, buckets)
             })
@@ -184,7 +180,8 @@ struct Kernel<'a> {
     reference: [f64; 3],
 }
 
-/// [`Kernel::chunk`], compiled also for AVX2 and chosen at run time.
+/// Assigns one chunk (its first triangle is `first`), filling `slots` and `buckets`;
+/// compiled also for AVX2 and chosen at run time.
 #[multiversion::multiversion(targets("x86_64+avx2"))]
 fn chunk(
     kernel: &Kernel<'_>,
@@ -194,41 +191,28 @@ fn chunk(
     slots: &mut [Slot],
     buckets: &mut [Vec<u32>],
 ) -> GroupCounts {
-    kernel.chunk(first, tris, normals, slots, buckets)
+    let mut out = ChunkOut {
+        buckets,
+        counts: GroupCounts::default(),
+        // Neighbouring triangles mostly share a group: try the last one first.
+        last: 0,
+    };
+    let (tri_blocks, tri_rest) = tris.as_chunks::<LANES>();
+    let (normal_blocks, normal_rest) = normals.as_chunks::<LANES>();
+    let (slot_blocks, slot_rest) = slots.as_chunks_mut::<LANES>();
+    let mut t = first;
+    for ((tris, normals), slots) in tri_blocks.iter().zip(normal_blocks).zip(slot_blocks) {
+        kernel.block(t, tris, normals, slots, &mut out);
+        t += LANES as u32;
+    }
+    for ((tri, normal), slot) in tri_rest.iter().zip(normal_rest).zip(slot_rest) {
+        kernel.block(t, &[*tri], &[*normal], std::array::from_mut(slot), &mut out);
+        t += 1;
+    }
+    out.counts
 }
 
 impl Kernel<'_> {
-    /// Assigns one chunk (its first triangle is `first`), filling `slots` and `buckets`.
-    #[inline(always)]
-    fn chunk(
-        &self,
-        first: u32,
-        tris: &[[u32; 3]],
-        normals: &[[f64; 3]],
-        slots: &mut [Slot],
-        buckets: &mut [Vec<u32>],
-    ) -> GroupCounts {
-        let mut out = ChunkOut {
-            buckets,
-            counts: GroupCounts::default(),
-            // Neighbouring triangles mostly share a group: try the last one first.
-            last: 0,
-        };
-        let (tri_blocks, tri_rest) = tris.as_chunks::<LANES>();
-        let (normal_blocks, normal_rest) = normals.as_chunks::<LANES>();
-        let (slot_blocks, slot_rest) = slots.as_chunks_mut::<LANES>();
-        let mut t = first;
-        for ((tris, normals), slots) in tri_blocks.iter().zip(normal_blocks).zip(slot_blocks) {
-            self.block(t, tris, normals, slots, &mut out);
-            t += LANES as u32;
-        }
-        for ((tri, normal), slot) in tri_rest.iter().zip(normal_rest).zip(slot_rest) {
-            self.block(t, &[*tri], &[*normal], std::array::from_mut(slot), &mut out);
-            t += 1;
-        }
-        out.counts
-    }
-
     /// Assigns `N` consecutive triangles, the first being `first`: their edge lengths,
     /// centroids and volume terms lane by lane (vectorised), then the nearest dominant
     /// normal, most often settled by one dot product with the last group's.
@@ -310,7 +294,7 @@ impl Kernel<'_> {
     }
 }
 
-/// The running state of [`Kernel::chunk`].
+/// The running state of [`chunk`].
 struct ChunkOut<'a> {
     buckets: &'a mut [Vec<u32>],
     counts: GroupCounts,

@@ -71,10 +71,10 @@ pub fn segment(
     Segmenter::new().segment(mesh, dominant, config)
 }
 
-/// [`segment`] with its per-triangle working memory (a few bytes per triangle: group,
-/// segment label, offset, volume term) kept across calls, for segmenting a stream of
-/// frames: fresh memory costs page faults on every call. Results do not depend on what
-/// ran before.
+/// [`segment`] with its working memory (per triangle a 16-byte slot with its label,
+/// offset and volume term and a "taken" byte; per group the seed lists) kept across
+/// calls, for segmenting a stream of frames: fresh memory costs page faults on every
+/// call. Results do not depend on what ran before.
 ///
 /// ```
 /// use halfedge_mesh::HalfEdgeMesh;
@@ -157,10 +157,7 @@ fn grow_all(
                 let mut region = Region::default();
                 // Seeds in triangle order: the chunks' lists of this group, one after another.
                 for bucket in buckets.iter().map(|b| &b[g]) {
-                    for (i, &seed) in bucket.iter().enumerate() {
-                        if let Some(&ahead) = bucket.get(i + PREFETCH_AHEAD) {
-                            prefetch(&taken[ahead as usize]);
-                        }
+                    for &seed in bucket {
                         if taken[seed as usize].load(Relaxed) != 0 {
                             continue;
                         }
