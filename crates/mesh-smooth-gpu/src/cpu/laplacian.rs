@@ -3,16 +3,15 @@
 use opc_mesh::OrganizedPointCloud;
 use rayon::prelude::*;
 
-use super::{Planes, min_rows_per_task, resize_all};
+use super::{PlaneSet, fill_planes, min_rows_per_task};
 use crate::LaplacianOptions;
 
-/// Reusable buffers of the Laplacian filter.
+/// Reusable buffers of the Laplacian filter: the planes x, y, z, mask (see
+/// [`Planes`](super::Planes)), the next pass's x, y, z, and Σ w of the last pass (> 0
+/// exactly where a pixel was filtered), all read or written together by the row kernel.
 #[derive(Default)]
 pub(crate) struct LaplacianWork {
-    planes: Planes,
-    next: [Vec<f32>; 3],
-    /// Σ w of the last pass; > 0 exactly where a pixel was filtered.
-    weight_sums: Vec<f32>,
+    planes: PlaneSet<8>,
 }
 
 /// Filters `cloud` in place on the CPU (`parallel`: over the rayon pool). Options are
@@ -28,15 +27,9 @@ pub(crate) fn laplacian_in_place(
     if options.iterations == 0 || rows <= 2 * half || cols <= 2 * half {
         return;
     }
-    let LaplacianWork {
-        planes,
-        next,
-        weight_sums,
-    } = work;
-    planes.fill(cloud.points(), cols, parallel);
-    let n = planes.m.len();
-    resize_all(next, n);
-    weight_sums.resize(n, 0.0);
+    work.planes.resize(cloud.points().len());
+    let [x, y, z, m, nx, ny, nz, weight_sums] = work.planes.planes_mut();
+    fill_planes(cloud.points(), cols, parallel, [x, y, z, m]);
     let grid = Grid {
         rows,
         cols,
@@ -44,9 +37,8 @@ pub(crate) fn laplacian_in_place(
         lambda: options.lambda,
         epsilon: options.epsilon,
     };
-    let Planes { x, y, z, m } = planes;
+    let m = &*m;
     let mut current = [x, y, z];
-    let [nx, ny, nz] = next;
     let mut next = [nx, ny, nz];
     for _ in 0..options.iterations {
         let [cx, cy, cz] = &current;

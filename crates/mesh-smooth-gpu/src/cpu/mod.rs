@@ -41,24 +41,93 @@ impl Planes {
         for plane in [&mut self.x, &mut self.y, &mut self.z, &mut self.m] {
             plane.resize(n, 0.0);
         }
-        (
-            self.x.par_chunks_mut(cols),
-            self.y.par_chunks_mut(cols),
-            self.z.par_chunks_mut(cols),
-            self.m.par_chunks_mut(cols),
-            points.par_chunks(cols),
-        )
-            .into_par_iter()
-            .with_min_len(min_rows_per_task(parallel))
-            .for_each(|(x, y, z, m, row)| {
-                for (i, p) in row.iter().enumerate() {
-                    let valid = opc_mesh::is_valid(p);
-                    x[i] = if valid { p[0] as f32 } else { 0.0 };
-                    y[i] = if valid { p[1] as f32 } else { 0.0 };
-                    z[i] = if valid { p[2] as f32 } else { 0.0 };
-                    m[i] = if valid { 1.0 } else { 0.0 };
-                }
-            });
+        fill_planes(
+            points,
+            cols,
+            parallel,
+            [&mut self.x, &mut self.y, &mut self.z, &mut self.m],
+        );
+    }
+}
+
+/// Writes `points` (rows of `cols`) into x, y, z planes rounded to `f32` and a validity
+/// mask (see [`Planes`]); each plane has one entry per point.
+pub(crate) fn fill_planes(
+    points: &[[f64; 3]],
+    cols: usize,
+    parallel: bool,
+    [x, y, z, m]: [&mut [f32]; 4],
+) {
+    (
+        x.par_chunks_mut(cols),
+        y.par_chunks_mut(cols),
+        z.par_chunks_mut(cols),
+        m.par_chunks_mut(cols),
+        points.par_chunks(cols),
+    )
+        .into_par_iter()
+        .with_min_len(min_rows_per_task(parallel))
+        .for_each(|(x, y, z, m, row)| {
+            for (i, p) in row.iter().enumerate() {
+                let valid = opc_mesh::is_valid(p);
+                x[i] = if valid { p[0] as f32 } else { 0.0 };
+                y[i] = if valid { p[1] as f32 } else { 0.0 };
+                z[i] = if valid { p[2] as f32 } else { 0.0 };
+                m[i] = if valid { 1.0 } else { 0.0 };
+            }
+        });
+}
+
+/// `N` planes of equal length in one allocation, laid out so that their starts differ
+/// modulo 4 KiB: plane `k` starts `k` · 256 bytes past a page multiple of the first.
+///
+/// A row kernel streams through all its planes at the same index at once. Planes
+/// allocated separately often start at the same offset modulo a large power of two
+/// (allocators hand out big blocks page- or segment-aligned), so those streams compete
+/// for the same cache sets; measured on the Laplacian filter (8 planes) with an allocator
+/// that aligns to 64 KiB, that cost 10–30 %.
+#[derive(Debug)]
+pub(crate) struct PlaneSet<const N: usize> {
+    data: Vec<f32>,
+    len: usize,
+}
+
+impl<const N: usize> Default for PlaneSet<N> {
+    fn default() -> Self {
+        Self {
+            data: Vec::new(),
+            len: 0,
+        }
+    }
+}
+
+/// The stagger between consecutive planes of a [`PlaneSet`], in `f32`s (256 bytes).
+const STAGGER: usize = 64;
+
+impl<const N: usize> PlaneSet<N> {
+    /// Distance between plane starts: `len` rounded up to a 4 KiB multiple, plus the
+    /// stagger.
+    fn stride(len: usize) -> usize {
+        len.next_multiple_of(1024) + STAGGER
+    }
+
+    /// Makes every plane `len` long, keeping the allocation when it is large enough
+    /// (contents are overwritten by the caller).
+    pub fn resize(&mut self, len: usize) {
+        self.data.resize(N * Self::stride(len), 0.0);
+        self.len = len;
+    }
+
+    /// The planes, each `len` long.
+    pub fn planes_mut(&mut self) -> [&mut [f32]; N] {
+        // `resize` allocated N strides (none before the first call).
+        let (stride, len) = (self.data.len() / N, self.len);
+        let mut rest: &mut [f32] = &mut self.data;
+        std::array::from_fn(|_| {
+            let (plane, tail) = std::mem::take(&mut rest).split_at_mut(stride);
+            rest = tail;
+            &mut plane[..len]
+        })
     }
 }
 
@@ -66,5 +135,33 @@ impl Planes {
 pub(crate) fn resize_all<const N: usize>(planes: &mut [Vec<f32>; N], n: usize) {
     for plane in planes {
         plane.resize(n, 0.0);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::PlaneSet;
+
+    #[test]
+    fn plane_set_planes_are_disjoint_and_start_on_different_cache_sets() {
+        assert!(PlaneSet::<8>::default().planes_mut().iter().all(|p| p.is_empty()));
+        let mut set = PlaneSet::<8>::default();
+        for len in [1 << 20, 0, 1, 1000, 1024, 4096, 250_000] {
+            set.resize(len);
+            let planes = set.planes_mut();
+            let starts: Vec<usize> = planes.iter().map(|p| p.as_ptr() as usize).collect();
+            for (k, plane) in planes.into_iter().enumerate() {
+                assert_eq!(plane.len(), len);
+                plane.fill(k as f32);
+            }
+            let planes = set.planes_mut();
+            for (k, plane) in planes.iter().enumerate() {
+                assert!(plane.iter().all(|&v| v == k as f32), "planes overlap at len {len}");
+            }
+            let mut offsets: Vec<usize> = starts.iter().map(|s| (s - starts[0]) % 4096).collect();
+            offsets.sort_unstable();
+            offsets.dedup();
+            assert_eq!(offsets.len(), 8, "len {len}: starts {starts:x?}");
+        }
     }
 }
