@@ -28,6 +28,11 @@ use crate::error::{Result, msg};
 use crate::machine::{CpuSample, Machine, load_average};
 use crate::report::{RunInfo, header, write};
 
+/// The allocator the `polylidar` command line uses (see its `main.rs`), so that the tables
+/// time what the command runs.
+#[global_allocator]
+static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 /// polylidar-rs project tasks.
 #[derive(Debug, Parser)]
 #[command(name = "cargo xtask", version, about)]
