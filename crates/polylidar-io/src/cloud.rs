@@ -140,6 +140,9 @@ pub struct LasCloud {
     pub points: Vec<[f64; 3]>,
     /// ASPRS class of each point (1 unclassified, 2 ground, 6 building, …).
     pub classification: Vec<u8>,
+    /// The horizontal length unit the header declares, read as [`crate::LengthUnit`]
+    /// describes; `None` when it declares none.
+    pub unit: Option<crate::LengthUnit>,
 }
 
 #[cfg(test)]

@@ -9,7 +9,7 @@
 //! | text tables of 2D/3D points | [`read_csv_points`] | — |
 //! | PLY ascii / binary (both byte orders) | [`read_ply`] | [`write_ply`] (binary little-endian) |
 //! | Wavefront OBJ (`v`, `f`) | [`read_obj`] | — |
-//! | LAS / LAZ (via the `las` crate) | [`read_las`] | — |
+//! | LAS / LAZ (via the `las` crate), with the length unit of the header ([`LengthUnit`]) | [`read_las`] | — |
 //!
 //! [`read_input`] picks the reader by extension and returns an [`InputKind`]. Every reader
 //! has a `parse_*` twin working on bytes in memory. Organized clouds keep their grid
@@ -52,6 +52,7 @@ mod npy;
 mod obj;
 mod pcd;
 mod ply;
+mod units;
 
 pub use auto::{InputKind, format_of, read_input};
 pub use cloud::{LasCloud, MeshData, MeshStats, PointCloud, PointTable};
@@ -76,6 +77,7 @@ pub use pcd::{
 pub use ply::{
     encode_ply, parse_ply, parse_ply_with_stats, read_ply, read_ply_with_stats, write_ply,
 };
+pub use units::{LengthUnit, UnknownUnit, geotiff_linear_unit, wkt_linear_unit};
 
 #[cfg(doctest)]
 #[doc = include_str!("../README.md")]

@@ -12,7 +12,8 @@ mod guard;
 /// holds, whatever its header claims (records may be up to 64 KiB long).
 const BATCH_BYTES: u64 = 8 << 20;
 
-/// Reads a LAS or LAZ file: coordinates (scale and offset applied) and classification.
+/// Reads a LAS or LAZ file: coordinates (scale and offset applied), classification, and
+/// the length unit its header declares.
 ///
 /// # Errors
 /// An [`IoError`] naming the file and the decoder's message (bad signature, unsupported
@@ -54,7 +55,10 @@ fn decode_unguarded<R: Read + Seek + Send + Sync + 'static>(read: R) -> KindResu
     let las_err = |e: las::Error| ErrorKind::Decoder(e.to_string());
     let mut reader = las::Reader::new(read).map_err(las_err)?;
     let total = reader.header().number_of_points();
-    let mut cloud = LasCloud::default();
+    let mut cloud = LasCloud {
+        unit: crate::units::las_header_unit(reader.header()),
+        ..LasCloud::default()
+    };
     let mut batch = las::PointDataBuilder::new()
         .for_header(reader.header())
         .build();
