@@ -41,6 +41,7 @@ mod pipeline;
 mod pipeline3d;
 mod regions;
 mod reuse;
+pub mod scale;
 pub mod shapes;
 
 pub use config::{
