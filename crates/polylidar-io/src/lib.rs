@@ -9,7 +9,7 @@
 //! | text tables of 2D/3D points | [`read_csv_points`] | — |
 //! | PLY ascii / binary (both byte orders) | [`read_ply`] | [`write_ply`] (binary little-endian) |
 //! | Wavefront OBJ (`v`, `f`) | [`read_obj`] | — |
-//! | LAS / LAZ (via the `las` crate), with the length unit of the header ([`LengthUnit`]) | [`read_las`] | — |
+//! | LAS / LAZ (via the `las` crate), with the length unit of the header ([`LengthUnit`]) | [`read_las`], [`read_las_unit`] | — |
 //!
 //! [`read_input`] picks the reader by extension and returns an [`InputKind`]. Every reader
 //! has a `parse_*` twin working on bytes in memory. Organized clouds keep their grid
@@ -63,7 +63,7 @@ pub use depth::{
     parse_realsense_intrinsics, read_depth_png, read_realsense_intrinsics, write_depth_png,
 };
 pub use error::{ErrorKind, Format, IoError};
-pub use lidar::{parse_las, read_las};
+pub use lidar::{parse_las, read_las, read_las_unit};
 pub use npy::{
     Dtype, NpyArray, encode_npy_f32, encode_npy_f64, encode_npy_i32, parse_npy, read_npy,
     write_npy_f32, write_npy_f64, write_npy_i32,

@@ -254,6 +254,7 @@ mod tests {
         let Some(simple) = test_fixtures::fixture("lidar/simple.las") else {
             return;
         };
+        assert_eq!(crate::read_las_unit(&simple).unwrap(), None);
         assert_eq!(crate::read_las(simple).unwrap().unit, None);
     }
 }

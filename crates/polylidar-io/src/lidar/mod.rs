@@ -25,6 +25,21 @@ pub fn read_las(path: impl AsRef<Path>) -> Result<LasCloud, IoError> {
     decode(BufReader::new(file)).map_err(|k| IoError::new(Format::Las, k).at(path))
 }
 
+/// The length unit the header of a LAS or LAZ file declares (see [`crate::LengthUnit`]),
+/// without decoding its points; `None` when it declares none.
+///
+/// # Errors
+/// An [`IoError`] naming the file when it cannot be opened or its header is not LAS.
+pub fn read_las_unit(path: impl AsRef<Path>) -> Result<Option<crate::LengthUnit>, IoError> {
+    let path = path.as_ref();
+    let error = |k| IoError::new(Format::Las, k).at(path);
+    let file = std::fs::File::open(path).map_err(|e| error(ErrorKind::Os(e)))?;
+    let mut read = BufReader::new(file);
+    guard::check_claimed_sizes(&mut read).map_err(error)?;
+    let header = las::Header::new(read).map_err(|e| error(ErrorKind::Decoder(e.to_string())))?;
+    Ok(crate::units::las_header_unit(&header))
+}
+
 /// Parses LAS or LAZ bytes; see [`read_las`].
 ///
 /// # Errors
