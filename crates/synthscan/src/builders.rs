@@ -250,7 +250,7 @@ fn floor_ring(r: Rect) -> Vec<V3> {
 }
 
 /// Adds floor (label 0, with `holes`), four walls facing in, and an optional ceiling.
-fn add_shell(
+pub(crate) fn add_shell(
     scene: &mut Scene,
     size: [f64; 3],
     ceiling: bool,

@@ -51,8 +51,10 @@
 
 mod builders;
 mod bvh;
+mod depth;
 mod error;
 mod face;
+mod indoor;
 mod mesh;
 mod scan;
 mod scene;
@@ -65,8 +67,10 @@ pub use builders::{
     FLOOR_LABEL, FloorBox, RampsConfig, RandomPolyhedraConfig, RoomConfig, StairsConfig,
     TableConfig,
 };
+pub use depth::{DepthCamera, DepthCameraKind, DepthModel, MAX_EDGE_BAND};
 pub use error::SceneError;
 pub use face::{Face, Polygon3d};
+pub use indoor::{IndoorConfig, rgbd_like};
 pub use mesh::{LabelledMesh, MAX_MESH_TRIANGLES, PointSample};
 pub use scan::{Noise, ScanResult};
 pub use scene::{GroundTruthPlane, Scene};

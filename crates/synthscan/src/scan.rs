@@ -108,7 +108,7 @@ impl ScanResult {
 
 /// A standard normal pair by the Box–Muller transform.
 #[inline]
-fn normal_pair(rng: &mut Xoshiro256PlusPlus) -> (f64, f64) {
+pub(crate) fn normal_pair(rng: &mut Xoshiro256PlusPlus) -> (f64, f64) {
     let u1 = 1.0 - rng.random::<f64>();
     let u2 = rng.random::<f64>();
     let r = (-2.0 * u1.ln()).sqrt();
