@@ -35,6 +35,7 @@
 mod config;
 mod diagnostics;
 mod error;
+pub mod explain;
 mod filter;
 mod noise;
 mod pipeline;
