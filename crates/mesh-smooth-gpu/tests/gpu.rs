@@ -33,7 +33,7 @@ fn gpu() -> Option<GpuSmoother> {
                 !test_fixtures::in_ci(),
                 "no usable GPU adapter under CI=true: {e}; run .ci/install-gpu-deps.sh"
             );
-            eprintln!("skipping GPU test: {e}");
+            test_fixtures::record_skip(&format!("no GPU adapter ({e})"));
             None
         }
         Err(e) => panic!("unexpected error creating the GPU smoother: {e}"),

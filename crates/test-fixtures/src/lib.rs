@@ -2,6 +2,10 @@
 //! benchmarks, and applies the project's rule for missing data: under CI (`CI=true`) a
 //! missing fixture is a failure; elsewhere the caller skips with a printed reason.
 //!
+//! Every skip is also logged ([`record_skip`]) to `target/test-skips.log`, which
+//! `.ci/test.sh` empties before `cargo test` and summarises after it ("7 tests skipped:
+//! fixtures not found at ../shared/fixtures"), so skipped tests do not pass unseen.
+//!
 //! ```no_run
 //! let Some(path) = test_fixtures::fixture("synpeb/pc_01.pcd") else {
 //!     return; // not in CI and the data is absent: skipped, reason printed
@@ -55,8 +59,40 @@ pub fn fixture(relative: &str) -> Option<PathBuf> {
     if in_ci() {
         panic!("{message}; CI=true, so this is a failure");
     }
-    eprintln!("skipping: {message}");
+    record_skip(&message);
     None
+}
+
+/// The skip log: `POLYLIDAR_SKIP_LOG` if set, else `test-skips.log` in the cargo target
+/// folder of the running test binary (`target/debug/deps/<test>` → `target/`).
+pub fn skip_log() -> Option<PathBuf> {
+    if let Some(path) = std::env::var_os("POLYLIDAR_SKIP_LOG") {
+        return Some(PathBuf::from(path));
+    }
+    let exe = std::env::current_exe().ok()?;
+    let profile = exe
+        .ancestors()
+        .find(|d| d.file_name().is_some_and(|n| n == "deps"))?;
+    Some(profile.parent()?.parent()?.join("test-skips.log"))
+}
+
+/// Prints `skipping: <reason>` and appends a line `<test>\t<reason>` to [`skip_log`]
+/// (the test is the running thread's name, which the test harness sets to the test's
+/// path). Call it where a test returns early for want of data or hardware.
+pub fn record_skip(reason: &str) {
+    eprintln!("skipping: {reason}");
+    let test = std::thread::current()
+        .name()
+        .unwrap_or("unnamed test")
+        .to_owned();
+    let Some(path) = skip_log() else { return };
+    let line = format!("{test}\t{}\n", reason.replace(['\n', '\t'], " "));
+    // A log that cannot be written loses only the summary line; the skip was printed.
+    let _ = std::fs::OpenOptions::new()
+        .create(true)
+        .append(true)
+        .open(path)
+        .and_then(|mut f| std::io::Write::write_all(&mut f, line.as_bytes()));
 }
 
 /// `count` unit normals uniform on the sphere, reproducibly from `seed` (the random input
