@@ -48,9 +48,15 @@ pub struct InputArgs {
     pub demo: Option<Demo>,
     /// Start from a named parameter preset of the papers: rgbd, synpeb (the authors' fixed
     /// 8 Laplacian iterations), synpeb-auto (iterations from the measured noise), rooftop,
-    /// kitti, mesh-basement, mesh-mainfloor.
+    /// kitti, mesh-basement, mesh-mainfloor. Their lengths are metres, converted into
+    /// `--units`. Default: none (the defaults below; `synpeb-auto` for `--demo scene`).
     #[arg(long, value_name = "NAME")]
     pub preset: Option<String>,
+    /// Unit of the input's coordinates: m, ft (0.3048 m) or us-ft (1200/3937 m). Every
+    /// length flag and config value is in this unit; presets are converted into it.
+    /// Default: the unit a LAS/LAZ header declares, else metres.
+    #[arg(long, value_name = "UNIT")]
+    pub units: Option<polylidar_io::LengthUnit>,
     /// TOML file with parameters (the field names of `polylidar::Config`); it overrides the
     /// preset field by field, and flags override both.
     #[arg(long, value_name = "FILE")]
@@ -89,6 +95,10 @@ pub struct ExtractArgs {
     /// Run the pipeline this many times on the loaded data; timings are medians.
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..))]
     pub repeat: u32,
+    /// Exit with code 3 when nothing, or nearly nothing (under 1 % of the triangles), is
+    /// found. Without it the exit code is 0 and the explanation is only printed.
+    #[arg(long)]
+    pub strict: bool,
 }
 
 /// Arguments of `polylidar evaluate`.
@@ -131,39 +141,51 @@ pub struct GenerateArgs {
 }
 
 /// Flags named like the fields of `polylidar::Config`, in kebab case.
+///
+/// Which apply: 2D points use `alpha`, `lmax`, `min-triangles`, `min-hole-vertices`;
+/// unorganized 3D clouds (2.5D) also `norm-thresh` and `up`; organized clouds and meshes
+/// (3D) use `lmax`, `min-triangles`, `min-hole-vertices`, `norm-thresh`, `z-thresh` and,
+/// organized only, `no-smoothing`. A flag that does not apply is reported and ignored.
 #[derive(Debug, Args, Default)]
+#[command(next_help_heading = "Parameters (override the preset and --config)")]
 pub struct ParamArgs {
-    /// 2D / 2.5D: keep triangles whose circumradius is at most this (0 disables). Input
-    /// length units.
+    /// 2D / 2.5D: keep triangles whose circumradius is at most this (0 disables), in
+    /// `--units`. Default: 2D input: 4.2 × the median point spacing unless `--lmax` is
+    /// given; otherwise 0.
     #[arg(long, allow_negative_numbers = true)]
     pub alpha: Option<f64>,
-    /// Keep triangles whose longest edge is at most this (0 disables). Input length units.
+    /// Keep triangles whose longest edge is at most this (0 disables), in `--units`.
+    /// Default: the preset's; 2.5D input: at least 4 × the median point spacing; 0 (off)
+    /// for 2D input without a preset.
     #[arg(long, allow_negative_numbers = true)]
     pub lmax: Option<f64>,
-    /// Drop regions with fewer triangles than this.
+    /// Drop regions with fewer triangles than this. Default: the preset's, else 20.
     #[arg(long)]
     pub min_triangles: Option<usize>,
-    /// Drop holes with fewer vertices than this.
+    /// Drop holes with fewer vertices than this. Default: the preset's, else 3.
     #[arg(long)]
     pub min_hole_vertices: Option<usize>,
-    /// Minimum cosine between a triangle normal and its plane's (2.5D: the up vector).
+    /// 2.5D / 3D: minimum cosine between a triangle normal and its plane's (2.5D: the up
+    /// vector). Default: the preset's, else 0.9 (about 26°).
     #[arg(long, allow_negative_numbers = true)]
     pub norm_thresh: Option<f64>,
-    /// 3D: largest point-to-plane distance of a triangle's centroid while growing a plane.
+    /// 3D: largest point-to-plane distance of a triangle's centroid while growing a plane,
+    /// in `--units` (0 disables). Default: the preset's, else 0.
     #[arg(long)]
     pub z_thresh: Option<f64>,
-    /// 2.5D: the up vector, as `x,y,z`.
+    /// 2.5D: the up vector, as `0,0,1` or `0 0 1`. Default: 0,0,1.
     #[arg(
         long,
         value_delimiter = ',',
-        num_args = 3,
-        allow_negative_numbers = true
+        num_args = 1..=3,
+        allow_negative_numbers = true,
+        value_name = "X,Y,Z"
     )]
     pub up: Option<Vec<f64>>,
-    /// Worker threads (0: one per core).
+    /// Worker threads (0: one per core). Default: 0.
     #[arg(long)]
     pub threads: Option<usize>,
-    /// 3D: skip the preset's Laplacian and bilateral smoothing.
+    /// Organized clouds: skip the preset's Laplacian and bilateral smoothing.
     #[arg(long)]
     pub no_smoothing: bool,
 }

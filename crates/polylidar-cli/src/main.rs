@@ -7,6 +7,10 @@
 //! polylidar evaluate scan.pcd --labels truth.npy --preset synpeb
 //! polylidar generate --seed 3 --noise-mdeg 2 -o scan.pcd --labels-out truth.npy
 //! ```
+//!
+//! Exit codes: 0 done (also when nothing was found, unless `--strict`), 1 an error
+//! (unreadable input, bad parameters, unwritable output), 2 a usage error, 3 `extract
+//! --strict` found nothing or nearly nothing.
 
 mod args;
 mod evaluate;
@@ -31,7 +35,8 @@ static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
 fn main() -> ExitCode {
     let cli = args::Cli::parse();
     match run::run(cli) {
-        Ok(()) => ExitCode::SUCCESS,
+        Ok(run::Outcome::Done) => ExitCode::SUCCESS,
+        Ok(run::Outcome::Empty) => ExitCode::from(run::EXIT_EMPTY),
         Err(e) => {
             eprintln!("error: {e}");
             let mut source = std::error::Error::source(&e);

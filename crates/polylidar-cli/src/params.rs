@@ -1,35 +1,204 @@
-//! Building the pipeline's parameters: preset, then config file, then flags.
+//! Building the pipeline's parameters: preset (metres, converted into the input's unit),
+//! then config file, then flags, then lengths nobody gave derived from the data.
 
 use std::path::Path;
 
+use polylidar::scale::{alpha_for_spacing, convert_lengths, lmax_for_spacing};
 use polylidar::{Config, PRESETS};
+use polylidar_io::LengthUnit;
 
 use crate::args::{Demo, InputArgs, ParamArgs};
-use crate::input::DEMO_SHAPE_POINTS;
+use crate::input::{DEMO_SHAPE_POINTS, Input};
 use crate::run::CliError;
 
-/// The configuration `args` asks for. Without a preset, the scene demo uses `synpeb-auto`
-/// (Laplacian iterations chosen from the measured noise) and the shape demo the 2D
-/// paper's α for its point count.
+/// Where the unit of the input's coordinates came from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum UnitSource {
+    /// `--units`.
+    Flag,
+    /// The LAS/LAZ header.
+    Header,
+    /// Nothing said: metres assumed.
+    Assumed,
+}
+
+/// The parameters chosen for one input, and how.
+#[derive(Debug, Clone)]
+pub struct Chosen {
+    /// The configuration to run.
+    pub config: Config,
+    /// The preset it started from.
+    pub preset: Option<String>,
+    /// The unit of the input's coordinates (and of every length of `config`).
+    pub unit: LengthUnit,
+    /// Where `unit` came from.
+    pub unit_source: UnitSource,
+    /// The median nearest-neighbour spacing, when it was measured (2D and 2.5D input).
+    pub spacing: Option<f64>,
+    /// Lines for the summary on how lengths were chosen, e.g.
+    /// `lmax 4.1 ft (from spacing 1.0 ft)`.
+    pub notes: Vec<String>,
+}
+
+/// Which length parameters the config file or a flag set explicitly.
+#[derive(Debug, Clone, Copy, Default)]
+struct Explicit {
+    alpha: bool,
+    lmax: bool,
+}
+
+/// The configuration `args` asks for, with a preset's lengths in `--units` (metres when
+/// not given); nothing is derived from data. Used where the input is organized (scores
+/// against ground truth).
 pub fn config(args: &InputArgs) -> Result<Config, CliError> {
-    let preset = match (&args.preset, args.demo, &args.input) {
+    let unit = args.units.unwrap_or(LengthUnit::Metre);
+    Ok(layered(args, unit)?.0)
+}
+
+/// The preset's name `args` selects: `--preset`, else `synpeb-auto` for the scene demo.
+pub fn preset_name(args: &InputArgs) -> Option<&str> {
+    match (&args.preset, args.demo, &args.input) {
         (Some(name), _, _) => Some(name.as_str()),
         (None, Some(Demo::Scene), None) => Some("synpeb-auto"),
         _ => None,
-    };
-    let mut config = match preset {
-        Some(name) => Config::preset(name).ok_or_else(|| CliError::Preset {
-            name: name.to_owned(),
-            known: PRESETS.join(", "),
-        })?,
-        None if args.demo == Some(Demo::Shape) && args.input.is_none() => shape_demo_config(),
+    }
+}
+
+/// Preset (converted from metres into `unit`), config file, flags; and which lengths the
+/// file or the flags set.
+fn layered(args: &InputArgs, unit: LengthUnit) -> Result<(Config, Explicit), CliError> {
+    let mut explicit = Explicit::default();
+    let mut config = match preset_name(args) {
+        Some(name) => {
+            let metres = Config::preset(name).ok_or_else(|| CliError::Preset {
+                name: name.to_owned(),
+                known: PRESETS.join(", "),
+            })?;
+            convert_lengths(&metres, 1.0 / unit.metres())
+        }
+        None if args.demo == Some(Demo::Shape) && args.input.is_none() => {
+            explicit.alpha = true;
+            shape_demo_config()
+        }
         None => Config::default(),
     };
     if let Some(path) = &args.config {
-        config = merge_file(config, path)?;
+        let (merged, keys) = merge_file(config, path)?;
+        config = merged;
+        explicit.alpha |= keys.iter().any(|k| k == "alpha");
+        explicit.lmax |= keys.iter().any(|k| k == "lmax");
     }
-    apply_flags(&mut config, &args.params);
-    Ok(config)
+    apply_flags(&mut config, &args.params)?;
+    explicit.alpha |= args.params.alpha.is_some();
+    explicit.lmax |= args.params.lmax.is_some();
+    Ok((config, explicit))
+}
+
+/// The parameters for a loaded `input` whose file declares `header_unit`.
+///
+/// Lengths are in the input's unit: `--units`, else the LAS/LAZ header's, else metres.
+/// For 2D and 2.5D input the median nearest-neighbour spacing `s` is measured, and the
+/// length filters neither the config file nor a flag set are derived from it:
+///
+/// * 2D: `alpha` = 4.2 · s (the 2D paper's α for a uniform sample), unless a preset's
+///   `lmax` is kept (raised to at least 4 · s);
+/// * 2.5D: `lmax` = 4 · s, or the preset's if that is longer; `alpha` stays the
+///   preset's (0: off).
+pub fn config_for(
+    args: &InputArgs,
+    input: &Input,
+    header_unit: Option<LengthUnit>,
+) -> Result<Chosen, CliError> {
+    let (unit, unit_source) = match (args.units, header_unit) {
+        (Some(u), _) => (u, UnitSource::Flag),
+        (None, Some(u)) => (u, UnitSource::Header),
+        (None, None) => (LengthUnit::Metre, UnitSource::Assumed),
+    };
+    let (mut config, explicit) = layered(args, unit)?;
+    let preset = preset_name(args).map(str::to_owned);
+    let mut notes = Vec::new();
+    let spacing = match input {
+        Input::Points2d(points) => Some(polylidar::scale::median_spacing_2d(points)?),
+        Input::Cloud(points) => Some(polylidar::scale::median_spacing_25d(points, config.up)?),
+        _ => None,
+    };
+    let derive = match input {
+        Input::Points2d(_) => !(explicit.alpha || explicit.lmax),
+        _ => !explicit.lmax,
+    };
+    let from = |s: f64| format!("from spacing {}", length(s, unit));
+    if let Some(s) = spacing.filter(|_| derive) {
+        match input {
+            Input::Points2d(_) if config.lmax > 0.0 => {
+                let floor = lmax_for_spacing(s);
+                if config.lmax < floor {
+                    notes.push(format!(
+                        "lmax {} (the preset's {} raised to 4 × spacing {})",
+                        length(floor, unit),
+                        length(config.lmax, unit),
+                        length(s, unit)
+                    ));
+                    config.lmax = floor;
+                }
+            }
+            Input::Points2d(_) => {
+                config.alpha = alpha_for_spacing(s);
+                notes.push(format!(
+                    "alpha {} ({})",
+                    length(config.alpha, unit),
+                    from(s)
+                ));
+            }
+            _ => {
+                let derived = lmax_for_spacing(s);
+                if config.lmax >= derived {
+                    notes.push(format!(
+                        "lmax {} (the preset's; spacing {})",
+                        length(config.lmax, unit),
+                        length(s, unit)
+                    ));
+                } else if config.lmax > 0.0 {
+                    notes.push(format!(
+                        "lmax {} (the preset's {} raised to 4 × spacing {})",
+                        length(derived, unit),
+                        length(config.lmax, unit),
+                        length(s, unit)
+                    ));
+                    config.lmax = derived;
+                } else {
+                    config.lmax = derived;
+                    notes.push(format!("lmax {} ({})", length(derived, unit), from(s)));
+                }
+            }
+        }
+    }
+    Ok(Chosen {
+        config,
+        preset,
+        unit,
+        unit_source,
+        spacing,
+        notes,
+    })
+}
+
+/// A length with 3 significant digits and its unit: `4.07 ft`.
+pub fn length(value: f64, unit: LengthUnit) -> String {
+    format!("{} {unit}", significant(value))
+}
+
+/// `value` with 3 significant digits, without trailing zeros.
+pub fn significant(value: f64) -> String {
+    if value == 0.0 || !value.is_finite() {
+        return value.to_string();
+    }
+    let digits = (2 - value.abs().log10().floor() as i32).max(0) as usize;
+    let text = format!("{value:.digits$}");
+    if text.contains('.') {
+        text.trim_end_matches('0').trim_end_matches('.').to_owned()
+    } else {
+        text
+    }
 }
 
 /// α = 2·√(area / n) for the demo shape, as in the 2D paper's benchmarks.
@@ -41,19 +210,22 @@ fn shape_demo_config() -> Config {
         .with_min_hole_vertices(6)
 }
 
-/// `base` with every field the TOML file sets replaced (tables merged key by key).
-fn merge_file(base: Config, path: &Path) -> Result<Config, CliError> {
+/// `base` with every field the TOML file sets replaced (tables merged key by key), and
+/// the top-level keys the file sets.
+fn merge_file(base: Config, path: &Path) -> Result<(Config, Vec<String>), CliError> {
     let error = |message: String| CliError::Config {
         path: path.to_path_buf(),
         message,
     };
     let text = std::fs::read_to_string(path).map_err(|e| error(e.to_string()))?;
     let file: toml::Table = toml::from_str(&text).map_err(|e| error(e.to_string()))?;
+    let keys = file.keys().cloned().collect();
     let mut merged = toml::Table::try_from(&base).map_err(|e| error(e.to_string()))?;
     merge(&mut merged, file);
-    merged
+    let config = merged
         .try_into()
-        .map_err(|e: toml::de::Error| error(e.to_string()))
+        .map_err(|e: toml::de::Error| error(e.to_string()))?;
+    Ok((config, keys))
 }
 
 fn merge(into: &mut toml::Table, from: toml::Table) {
@@ -67,7 +239,7 @@ fn merge(into: &mut toml::Table, from: toml::Table) {
     }
 }
 
-fn apply_flags(config: &mut Config, flags: &ParamArgs) {
+fn apply_flags(config: &mut Config, flags: &ParamArgs) -> Result<(), CliError> {
     let ParamArgs {
         alpha,
         lmax,
@@ -97,8 +269,17 @@ fn apply_flags(config: &mut Config, flags: &ParamArgs) {
     if let Some(v) = z_thresh {
         config.z_thresh = *v;
     }
-    if let Some([x, y, z]) = up.as_deref() {
-        config.up = [*x, *y, *z];
+    match up.as_deref() {
+        None => {}
+        Some(&[x, y, z]) => config.up = [x, y, z],
+        Some(other) => {
+            return Err(CliError::Unsupported {
+                what: format!(
+                    "--up needs three numbers (`--up 0,0,1` or `--up 0 0 1`), got {}",
+                    other.len()
+                ),
+            });
+        }
     }
     if let Some(v) = threads {
         config.threads = *v;
@@ -106,5 +287,20 @@ fn apply_flags(config: &mut Config, flags: &ParamArgs) {
     if *no_smoothing {
         config.laplacian = None;
         config.bilateral = None;
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn significant_keeps_three_digits() {
+        assert_eq!(significant(2.952755), "2.95");
+        assert_eq!(significant(0.0123456), "0.0123");
+        assert_eq!(significant(1234.6), "1235");
+        assert_eq!(significant(4.0), "4");
+        assert_eq!(significant(0.0), "0");
     }
 }

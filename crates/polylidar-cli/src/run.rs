@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 use polylidar::{Extraction, Polylidar, PolylidarError};
 use polylidar_io::IoError;
 
-use crate::args::{Cli, Command, ExtractArgs};
+use crate::args::{Cli, Command, ExtractArgs, InputArgs};
 use crate::input::{Input, Loaded, load};
 use crate::{evaluate, geojson, params, plot, report};
 
@@ -70,24 +70,46 @@ impl From<polylidar::OpcError> for CliError {
     }
 }
 
+/// How a command that ran without an error ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Outcome {
+    /// Done.
+    Done,
+    /// `extract --strict` found nothing, or nearly nothing (exit code
+    /// [`EXIT_EMPTY`]).
+    Empty,
+}
+
+/// The exit code of `extract --strict` when the result is empty or nearly empty.
+pub const EXIT_EMPTY: u8 = 3;
+
 /// Runs the parsed command line.
-pub fn run(cli: Cli) -> Result<(), CliError> {
+pub fn run(cli: Cli) -> Result<Outcome, CliError> {
     match cli.command {
         Command::Extract(args) => extract(&args),
-        Command::Evaluate(args) => evaluate::evaluate(&args),
-        Command::Generate(args) => evaluate::generate(&args),
+        Command::Evaluate(args) => evaluate::evaluate(&args).map(|()| Outcome::Done),
+        Command::Generate(args) => evaluate::generate(&args).map(|()| Outcome::Done),
     }
 }
 
-fn extract(args: &ExtractArgs) -> Result<(), CliError> {
-    let config = params::config(&args.input)?;
+fn extract(args: &ExtractArgs) -> Result<Outcome, CliError> {
     let stride = args.input.stride as usize;
     let Loaded {
         input,
         source,
         truth,
     } = load(args.input.input.as_deref(), args.input.demo, stride)?;
-    let polylidar = Polylidar::new(config)?;
+    let header_unit = match args.input.input.as_deref() {
+        Some(path) if polylidar_io::format_of(path) == Some(polylidar_io::Format::Las) => {
+            polylidar_io::read_las_unit(path)?
+        }
+        _ => None,
+    };
+    let chosen = params::config_for(&args.input, &input, header_unit)?;
+    for warning in inapplicable(&args.input, &input) {
+        eprintln!("warning: {warning}");
+    }
+    let polylidar = Polylidar::new(chosen.config.clone())?;
     let extraction = run_once(&polylidar, &input)?;
     let mut timings = vec![extraction.diagnostics.timings.clone()];
     for _ in 1..args.repeat {
@@ -125,19 +147,59 @@ fn extract(args: &ExtractArgs) -> Result<(), CliError> {
         )?),
         None => None,
     };
-    let counts = &extraction.diagnostics.counts;
+    let explanation = polylidar::explain::explain(&extraction, polylidar.config(), chosen.spacing);
+    let run = report::Run {
+        source: &source,
+        input: &input,
+        chosen: &chosen,
+        counts: &extraction.diagnostics.counts,
+        runs: &timings,
+        score: score.as_ref(),
+        explanation: &explanation,
+    };
     if args.json {
-        println!(
-            "{}",
-            report::json(&source, &input, counts, &timings, score.as_ref())
-        );
+        println!("{}", report::json(&run));
     } else {
-        eprintln!(
-            "{}",
-            report::summary(&source, &input, counts, &timings, score.as_ref())
-        );
+        eprintln!("{}", report::summary(&run));
     }
-    Ok(())
+    if explanation.empty && !args.json {
+        eprintln!("{}", report::explanation_text(&run, args.strict));
+    }
+    Ok(if explanation.empty && args.strict {
+        Outcome::Empty
+    } else {
+        Outcome::Done
+    })
+}
+
+/// The flags given that do not apply to `input`, as warnings.
+fn inapplicable(args: &InputArgs, input: &Input) -> Vec<String> {
+    let p = &args.params;
+    let kind = match input {
+        Input::Points2d(_) => "2D points",
+        Input::Cloud(_) => "an unorganized 3D cloud (2.5D)",
+        Input::Organized(_) => "an organized cloud (3D)",
+        Input::Mesh { .. } => "a mesh (3D)",
+    };
+    let is_3d = matches!(input, Input::Organized(_) | Input::Mesh { .. });
+    let given = [
+        ("--alpha", p.alpha.is_some() && is_3d),
+        ("--up", p.up.is_some() && !matches!(input, Input::Cloud(_))),
+        (
+            "--norm-thresh",
+            p.norm_thresh.is_some() && matches!(input, Input::Points2d(_)),
+        ),
+        ("--z-thresh", p.z_thresh.is_some() && !is_3d),
+        (
+            "--no-smoothing",
+            p.no_smoothing && !matches!(input, Input::Organized(_)),
+        ),
+    ];
+    given
+        .into_iter()
+        .filter(|(_, ignored)| *ignored)
+        .map(|(flag, _)| format!("{flag} does not apply to {kind}; ignored"))
+        .collect()
 }
 
 /// One pipeline run on the input.
