@@ -18,6 +18,11 @@ pub struct SegmentationConfig {
     pub min_triangles: usize,
     /// Keep holes of at least this many vertices. Default 3.
     pub min_hole_vertices: usize,
+    /// Refine the grown segments before their polygons are extracted: absorb the
+    /// neighbouring triangles that fit a segment's plane, grow planes that no dominant
+    /// normal explains from the triangles left over, and merge neighbouring segments that
+    /// fit one plane (see the crate docs). Default off: the paper's Alg. 5 as published.
+    pub refine: bool,
 }
 
 impl Default for SegmentationConfig {
@@ -28,6 +33,7 @@ impl Default for SegmentationConfig {
             z_thresh: 0.0,
             min_triangles: 20,
             min_hole_vertices: 3,
+            refine: false,
         }
     }
 }
@@ -65,6 +71,12 @@ impl SegmentationConfig {
     /// Sets [`Self::min_hole_vertices`].
     pub fn with_min_hole_vertices(mut self, min_hole_vertices: usize) -> Self {
         self.min_hole_vertices = min_hole_vertices;
+        self
+    }
+
+    /// Sets [`Self::refine`].
+    pub fn with_refine(mut self, refine: bool) -> Self {
+        self.refine = refine;
         self
     }
 

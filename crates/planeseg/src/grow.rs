@@ -6,6 +6,7 @@ use std::sync::mpsc;
 
 use halfedge_mesh::{HalfEdgeMesh, NO_TWIN};
 use polyextract::{Extractor, Polygon};
+use rayon::prelude::*;
 
 use crate::groups::{Assignment, FREE, GroupCounts, Slot};
 use crate::prefetch::prefetch;
@@ -15,8 +16,14 @@ use crate::{SegmentError, SegmentationConfig};
 /// A planar segment and its polygon.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PlanarSegment {
-    /// Index of the dominant normal the segment was grown for.
+    /// Index of the dominant normal the segment was grown for; [`NO_GROUP`](crate::NO_GROUP)
+    /// for a plane that refinement grew from triangles no dominant normal took.
     pub group: u32,
+    /// The plane the segment lies on, as the index of the first segment (in
+    /// [`Segmentation::segments`]) on it: its own index, unless refinement found an earlier
+    /// segment on the same plane that no edge connects it to (a wall seen on both sides of
+    /// an object in front of it).
+    pub plane: u32,
     /// The triangle the segment was grown from (its smallest triangle index).
     pub seed: u32,
     /// The segment's triangles, in growing order.
@@ -166,6 +173,11 @@ fn grow_all(
                         if region.triangles.len() < config.min_triangles.max(1) {
                             continue;
                         }
+                        if config.refine {
+                            let triangles = region.triangles.clone();
+                            let _ = sender.send(Outcome::Region(g as u32, triangles));
+                            continue;
+                        }
                         // Copied to its size: the growing buffers stay with this task.
                         let region = region.clone();
                         let sender = sender.clone();
@@ -187,11 +199,23 @@ fn grow_all(
         ..SegmentationCounts::default()
     };
     let mut results = Vec::new();
+    let mut regions = Vec::new();
     for outcome in receiver {
         match outcome {
             Outcome::Grown(n) => counts.segments_grown += n,
             Outcome::Segment(result) => results.push(result),
+            Outcome::Region(g, triangles) => regions.push((g, triangles)),
         }
+    }
+    if config.refine {
+        // Growth order depends on the threads; refinement must not.
+        regions.sort_unstable_by_key(|(g, triangles)| (*g, triangles.iter().min().copied()));
+        let refined = crate::refine::refine(mesh, regions, config);
+        results = refined
+            .segments
+            .into_par_iter()
+            .map(|(g, triangles)| grower.refined_polygon(g, triangles))
+            .collect();
     }
     let key = |r: &Result<PlanarSegment, (u32, u32, SegmentError)>| match r {
         Ok(s) => (s.group, s.seed),
@@ -206,6 +230,14 @@ fn grow_all(
         segments.push(segment);
     }
     counts.segments_too_small = counts.segments_grown - segments.len();
+    let planes = if config.refine {
+        crate::refine::coplanar(mesh, &segments, config)
+    } else {
+        (0..segments.len() as u32).collect()
+    };
+    for (segment, plane) in segments.iter_mut().zip(planes) {
+        segment.plane = plane;
+    }
     Ok(Segmentation { segments, counts })
 }
 
@@ -219,6 +251,8 @@ enum Outcome {
     Grown(usize),
     /// A segment with its polygon, or the failure keyed by (group, seed).
     Segment(Result<PlanarSegment, (u32, u32, SegmentError)>),
+    /// With refinement: a grown segment's group and triangles, its polygon still to come.
+    Region(u32, Vec<u32>),
 }
 
 /// A grown region: its triangles in growing order and its boundary half-edges.
@@ -305,6 +339,35 @@ impl Grower<'_> {
         }
     }
 
+    /// The polygon of a refined segment (group `g`, or `NO_GROUP` for a plane no
+    /// dominant normal explains): its boundary half-edges, geometric plane and polygon.
+    fn refined_polygon(
+        &self,
+        g: u32,
+        triangles: Vec<u32>,
+    ) -> Result<PlanarSegment, (u32, u32, SegmentError)> {
+        let seed = triangles.iter().min().copied().unwrap_or(0);
+        let mut members = triangles.clone();
+        members.sort_unstable();
+        let is_member = |t: u32| members.binary_search(&t).is_ok();
+        let twins = self.mesh.halfedges();
+        let boundary: Vec<u32> = triangles
+            .iter()
+            .flat_map(|&t| 3 * t..3 * t + 3)
+            .filter(|&h| match twins[h as usize] {
+                NO_TWIN => true,
+                twin => !is_member(twin / 3),
+            })
+            .collect();
+        let (normal, centroid) = geometric_plane(self.mesh, &triangles);
+        let region = Region {
+            triangles,
+            boundary,
+            volume: 0.0,
+        };
+        self.polygon_in_plane(g, seed, region, normal, centroid)
+    }
+
     /// The segment's geometric plane and polygon.
     fn polygon(
         &self,
@@ -312,9 +375,21 @@ impl Grower<'_> {
         seed: u32,
         region: Region,
     ) -> Result<PlanarSegment, (u32, u32, SegmentError)> {
-        let v = self.mesh.vertices();
         let (normal, centroid) =
             boundary_plane(self.mesh, &region.boundary, region.volume, self.reference);
+        self.polygon_in_plane(g, seed, region, normal, centroid)
+    }
+
+    /// The segment with its polygon, extracted in the plane of `normal`.
+    fn polygon_in_plane(
+        &self,
+        g: u32,
+        seed: u32,
+        region: Region,
+        normal: [f64; 3],
+        centroid: [f64; 3],
+    ) -> Result<PlanarSegment, (u32, u32, SegmentError)> {
+        let v = self.mesh.vertices();
         let (e1, e2) = plane_axes(normal);
         let mut polygon = Extractor::new()
             .extract_boundary(self.mesh, &region.boundary, |i| {
@@ -328,6 +403,7 @@ impl Grower<'_> {
             .retain(|h| h.len() >= self.config.min_hole_vertices);
         Ok(PlanarSegment {
             group: g,
+            plane: 0,
             seed,
             triangles: region.triangles,
             normal,

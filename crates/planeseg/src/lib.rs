@@ -46,6 +46,7 @@ mod config;
 mod groups;
 mod grow;
 mod prefetch;
+mod refine;
 mod vec3;
 
 pub use config::SegmentationConfig;
@@ -53,6 +54,7 @@ pub use groups::{GroupCounts, NO_GROUP, assign_groups};
 pub use grow::{
     PlanarSegment, Segmentation, SegmentationCounts, Segmenter, geometric_plane, segment,
 };
+pub use refine::{ABSORB_COS, MERGE_RMS_GROWTH};
 
 use polyextract::ExtractError;
 

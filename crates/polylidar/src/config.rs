@@ -53,6 +53,11 @@ pub struct Config {
     pub fastga: FastGaSection,
     /// Polygon post-processing (simplify, buffer, area filters); absent = off.
     pub postprocess: Option<PostprocessSection>,
+    /// 3D: refine the planar segments before their polygons are extracted (absorb the
+    /// triangles that fit a segment's plane, grow planes that no dominant normal
+    /// explains, merge neighbouring segments of one plane; see
+    /// [`planeseg::SegmentationConfig::refine`]). Off in the papers' presets.
+    pub refine: bool,
 }
 
 /// Laplacian vertex filter parameters (Polylidar3D Eq. 1–2).
@@ -365,6 +370,7 @@ impl Default for Config {
             bilateral: None,
             fastga: FastGaSection::default(),
             postprocess: None,
+            refine: false,
         }
     }
 }
@@ -378,6 +384,7 @@ impl Config {
             .with_z_thresh(self.z_thresh)
             .with_min_triangles(self.min_triangles)
             .with_min_hole_vertices(self.min_hole_vertices)
+            .with_refine(self.refine)
     }
 
     /// The defaults; see each field.
@@ -535,6 +542,7 @@ impl Config {
                 z_thresh: 0.07,
                 norm_thresh: 0.95,
                 min_hole_vertices: 50,
+                refine: name == "synpeb-auto",
                 ..base
             },
             "rooftop" => Self {

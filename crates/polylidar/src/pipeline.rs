@@ -24,8 +24,14 @@ pub struct ExtractedPolygon {
     pub triangles: Vec<u32>,
     /// The plane of the region's triangles.
     pub plane: PolygonPlane,
-    /// 3D: the index of the dominant normal the segment was grown for.
+    /// 3D: the index of the dominant normal the segment was grown for (into
+    /// [`Extraction::dominant_normals`]); `None` for a plane that refinement found
+    /// without one, and for 2D and 2.5D input.
     pub group: Option<u32>,
+    /// The plane this polygon lies on, as the index of the first polygon on it: its own
+    /// index, unless refinement ([`crate::Config::refine`]) found that an earlier polygon
+    /// lies on the same plane (a wall seen on both sides of an object in front of it).
+    pub plane_id: u32,
 }
 
 impl ExtractedPolygon {
@@ -36,6 +42,7 @@ impl ExtractedPolygon {
         plane: PolygonPlane,
         triangles: Vec<u32>,
         group: Option<u32>,
+        plane_id: u32,
     ) -> Self {
         let coords = |ring: &[u32]| -> Vec<[f64; 3]> {
             ring.iter().map(|&i| vertices[i as usize]).collect()
@@ -48,6 +55,7 @@ impl ExtractedPolygon {
             plane,
             triangles,
             group,
+            plane_id,
         }
     }
 }
@@ -103,6 +111,9 @@ pub struct Extraction {
     pub polygons: Vec<ExtractedPolygon>,
     /// The polygons after post-processing, when the config asks for it (else empty).
     pub postprocessed: Vec<PostprocessedPolygon>,
+    /// 3D: the dominant plane normals (unit) the segments were grown for; a polygon's
+    /// [`ExtractedPolygon::group`] indexes this. Empty for 2D and 2.5D input.
+    pub dominant_normals: Vec<[f64; 3]>,
     /// Per-stage counts and timings.
     pub diagnostics: Diagnostics,
 }
@@ -124,23 +135,39 @@ impl Extraction {
     /// # Ok::<(), polylidar::PolylidarError>(())
     /// ```
     pub fn point_labels(&self) -> Vec<i32> {
-        let mut labels = vec![-1i32; self.mesh.num_vertices()];
+        self.labels(|index| index as i32)
+    }
+
+    /// As [`Self::point_labels`], with each polygon's [`ExtractedPolygon::plane_id`] in
+    /// place of its index: the plane of every vertex, which is what a plane segmentation
+    /// is scored on (Hoover et al.). The same as `point_labels` unless refinement found
+    /// polygons on one plane.
+    pub fn plane_labels(&self) -> Vec<i32> {
+        self.labels(|index| self.polygons[index].plane_id as i32)
+    }
+
+    /// The label `label(polygon index)` of every vertex, as [`Self::point_labels`] assigns
+    /// vertices to polygons.
+    fn labels(&self, label: impl Fn(usize) -> i32) -> Vec<i32> {
+        let mut owner = vec![-1i32; self.mesh.num_vertices()];
         let triangles = self.mesh.triangles();
         let size = |l: i32| self.polygons[l as usize].triangles.len();
         for (index, polygon) in self.polygons.iter().enumerate() {
-            let label = index as i32;
             let own = polygon.triangles.len();
             for &t in &polygon.triangles {
                 for v in triangles[t as usize] {
-                    let slot = &mut labels[v as usize];
+                    let slot = &mut owner[v as usize];
                     // Polygons come in index order, so an equal size keeps the lower index.
                     if *slot < 0 || size(*slot) < own {
-                        *slot = label;
+                        *slot = index as i32;
                     }
                 }
             }
         }
-        labels
+        owner
+            .into_iter()
+            .map(|o| if o < 0 { -1 } else { label(o as usize) })
+            .collect()
     }
 }
 
@@ -338,6 +365,7 @@ impl Polylidar {
                             plane,
                             triangles.to_vec(),
                             None,
+                            k as u32,
                         );
                         Ok((polygon, before))
                     })
@@ -350,7 +378,7 @@ impl Polylidar {
             counts.holes_too_small += holes_before - polygon.holes.len();
             polygons.push(polygon);
         }
-        self.finish(mesh, polygons, counts, timings)
+        self.finish(mesh, polygons, Vec::new(), counts, timings)
     }
 
     /// The extraction of `polygons` found on `mesh`, post-processed as configured.
@@ -358,6 +386,7 @@ impl Polylidar {
         &self,
         mesh: HalfEdgeMesh,
         polygons: Vec<ExtractedPolygon>,
+        dominant_normals: Vec<[f64; 3]>,
         mut counts: Counts,
         timings: Timings,
     ) -> Result<Extraction, PolylidarError> {
@@ -366,6 +395,7 @@ impl Polylidar {
             mesh,
             polygons,
             postprocessed: Vec::new(),
+            dominant_normals,
             diagnostics: Diagnostics { counts, timings },
         };
         self.postprocess(&mut extraction)?;

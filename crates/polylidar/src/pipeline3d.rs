@@ -165,10 +165,11 @@ impl Polylidar {
             .map(|s| {
                 let plane = PolygonPlane::new(s.normal, s.centroid);
                 let rings = (s.polygon.shell, s.polygon.holes);
-                ExtractedPolygon::new(vertices, rings, plane, s.triangles, Some(s.group))
+                let group = (s.group != planeseg::NO_GROUP).then_some(s.group);
+                ExtractedPolygon::new(vertices, rings, plane, s.triangles, group, s.plane)
             })
             .collect();
-        self.finish(mesh, polygons, counts, timings)
+        self.finish(mesh, polygons, dominant, counts, timings)
     }
 
     /// Applies the configured post-processing to `extraction.polygons`, if any.

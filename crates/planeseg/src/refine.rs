@@ -1,0 +1,518 @@
+//! Plane refinement after region growing (an extension of Alg. 5, on by
+//! [`SegmentationConfig::refine`]).
+//!
+//! Region growing by dominant normal misses what noise and the accumulator hide: a plane
+//! whose orientation is no peak of the Gaussian accumulator is never grown, noisy
+//! triangles on a found plane are left out (its segment then covers too little of it),
+//! and one plane is cut into pieces wherever a strip of noisy triangles or a second
+//! dominant normal separates them. Refinement works on the label of every triangle:
+//!
+//! 1. **Absorb**: free triangles next to a segment join it, breadth first from all
+//!    segments at once, when their corners lie within `z_thresh` of the segment's plane
+//!    and their normal is within [`ABSORB_COS`] of it: noisy triangles on the plane
+//!    fill in, triangles of a neighbouring plane in another direction do not.
+//! 2. **Grow free planes**: the triangles still free are grown into new segments by
+//!    their own plane, not a dominant normal: a neighbour joins when its normal is within
+//!    `norm_thresh` of the region's running plane normal and its centroid within
+//!    `z_thresh` of that plane. Seeds are triangles whose normal agrees with all three
+//!    neighbours'. Regions of `min_triangles` or more become segments, and absorb their
+//!    free neighbours in turn.
+//! 3. **Merge**: segments that share an edge merge when one plane explains both: the
+//!    normals are within `norm_thresh`, and the root mean square distance of each one's
+//!    triangles to their common plane stays within [`MERGE_RMS_GROWTH`] times the
+//!    noisier segment's own spread, or below a floor of `z_thresh / 8`; a step or a
+//!    ridge between two planes makes the common plane fit much worse.
+//! 4. **One plane, several polygons** ([`coplanar`]): after polygon extraction, segments
+//!    that no edge connects but whose normals are within [`COPLANAR_COS`] and that pass
+//!    the same plane test are reported as lying on one plane (a wall seen on both sides
+//!    of an object in front of it); each keeps its own polygon.
+//!
+//! Planes are area-weighted: the normal is the unit vector area of the triangles (which
+//! depends only on the region's boundary, so it is robust to noise inside it), the
+//! centroid and the spread are the area-weighted moments of the triangle centroids.
+
+use halfedge_mesh::{HalfEdgeMesh, NO_TWIN};
+
+use crate::vec3::{Vec3, add, corners, cross, dot, scale, sub, unit};
+use crate::{NO_GROUP, SegmentationConfig};
+
+/// Label of a triangle in no segment.
+pub(crate) const NONE: u32 = u32::MAX;
+
+/// Cosine between a free triangle's normal and a segment's plane normal for the triangle
+/// to be absorbed (60°): noisy triangles of the plane pass, those of a plane at a right
+/// angle do not.
+pub const ABSORB_COS: f64 = 0.5;
+
+/// Two segments merge if the merged plane's RMS distance is at most this factor times the
+/// larger of their own.
+pub const MERGE_RMS_GROWTH: f64 = 1.25;
+
+/// Area-weighted plane sums of a set of triangles.
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct PlaneSums {
+    /// Σ vector area (twice the area times the unit normal).
+    area: Vec3,
+    /// Σ weight (twice the area).
+    weight: f64,
+    /// Σ weight · centroid.
+    first: Vec3,
+    /// Σ weight · centroid ⊗ centroid: xx, xy, xz, yy, yz, zz.
+    second: [f64; 6],
+}
+
+/// A plane: unit normal and a point on it.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Plane {
+    pub normal: Vec3,
+    pub centroid: Vec3,
+}
+
+impl Plane {
+    /// Signed distance of `p` to the plane.
+    #[inline]
+    fn distance(&self, p: Vec3) -> f64 {
+        dot(self.normal, sub(p, self.centroid))
+    }
+}
+
+impl PlaneSums {
+    /// Adds the triangle with corners `[a, b, c]`.
+    #[inline]
+    fn add_triangle(&mut self, [a, b, c]: [Vec3; 3]) {
+        let area = cross(sub(b, a), sub(c, a));
+        let weight = dot(area, area).sqrt();
+        if !weight.is_finite() || weight == 0.0 {
+            return;
+        }
+        let m = scale(add(add(a, b), c), 1.0 / 3.0);
+        self.area = add(self.area, area);
+        self.weight += weight;
+        self.first = add(self.first, scale(m, weight));
+        let s = &mut self.second;
+        s[0] += weight * m[0] * m[0];
+        s[1] += weight * m[0] * m[1];
+        s[2] += weight * m[0] * m[2];
+        s[3] += weight * m[1] * m[1];
+        s[4] += weight * m[1] * m[2];
+        s[5] += weight * m[2] * m[2];
+    }
+
+    /// The sums of both sets.
+    fn merged(&self, o: &Self) -> Self {
+        let mut second = self.second;
+        for (s, t) in second.iter_mut().zip(o.second) {
+            *s += t;
+        }
+        Self {
+            area: add(self.area, o.area),
+            weight: self.weight + o.weight,
+            first: add(self.first, o.first),
+            second,
+        }
+    }
+
+    /// The plane, or `None` without area.
+    fn plane(&self) -> Option<Plane> {
+        let normal = unit(self.area)?;
+        (self.weight > 0.0).then(|| Plane {
+            normal,
+            centroid: scale(self.first, 1.0 / self.weight),
+        })
+    }
+
+    /// Root mean square distance of the triangle centroids to `plane`.
+    fn rms(&self, plane: &Plane) -> f64 {
+        if self.weight <= 0.0 {
+            return 0.0;
+        }
+        let n = plane.normal;
+        let s = &self.second;
+        // E[(n·m)²] − (n·E[m])² about the centroid, then the offset to the plane.
+        let nn = n[0] * n[0] * s[0]
+            + 2.0 * n[0] * n[1] * s[1]
+            + 2.0 * n[0] * n[2] * s[2]
+            + n[1] * n[1] * s[3]
+            + 2.0 * n[1] * n[2] * s[4]
+            + n[2] * n[2] * s[5];
+        let mean = dot(n, self.first) / self.weight;
+        let offset = dot(n, plane.centroid);
+        let var = nn / self.weight - mean * mean + (mean - offset) * (mean - offset);
+        var.max(0.0).sqrt()
+    }
+}
+
+/// The segments after refinement: each a list of triangles and the group it came from
+/// (the dominant normal's index, or [`NO_GROUP`] for a plane grown from free triangles).
+pub(crate) struct Refined {
+    pub segments: Vec<(u32, Vec<u32>)>,
+}
+
+/// What refinement reads of the mesh.
+struct Mesh<'a> {
+    vertices: &'a [Vec3],
+    triangles: &'a [[u32; 3]],
+    twins: &'a [u32],
+    normals: &'a [Vec3],
+    lmax2: f64,
+    z_thresh: f64,
+    norm_thresh: f64,
+}
+
+impl Mesh<'_> {
+    #[inline]
+    fn corners(&self, t: u32) -> [Vec3; 3] {
+        corners(self.vertices, self.triangles[t as usize])
+    }
+
+    /// Whether triangle `t` may be in a segment at all: finite normal, edges within lmax.
+    fn usable(&self, t: u32) -> bool {
+        let n = self.normals[t as usize];
+        if !(n[0].is_finite() && n[1].is_finite() && n[2].is_finite()) {
+            return false;
+        }
+        let [a, b, c] = self.corners(t);
+        let len2 = |p: Vec3, q: Vec3| {
+            let d = sub(p, q);
+            dot(d, d)
+        };
+        // Not `> lmax2`: a NaN length must fail too.
+        len2(a, b) <= self.lmax2 && len2(b, c) <= self.lmax2 && len2(c, a) <= self.lmax2
+    }
+
+    /// The neighbours of `t` across its three edges (`NONE` for a border edge).
+    #[inline]
+    fn neighbours(&self, t: u32) -> [u32; 3] {
+        let h = 3 * t as usize;
+        [0, 1, 2].map(|k| match self.twins[h + k] {
+            NO_TWIN => NONE,
+            twin => twin / 3,
+        })
+    }
+
+    /// Whether free triangle `t` fits `plane` closely enough to be absorbed.
+    fn fits(&self, t: u32, plane: &Plane) -> bool {
+        if dot(self.normals[t as usize], plane.normal) < ABSORB_COS {
+            return false;
+        }
+        self.corners(t)
+            .iter()
+            .all(|&p| plane.distance(p).abs() <= self.z_thresh)
+    }
+
+    fn sums(&self, triangles: &[u32]) -> PlaneSums {
+        let mut sums = PlaneSums::default();
+        for &t in triangles {
+            sums.add_triangle(self.corners(t));
+        }
+        sums
+    }
+}
+
+/// Refines the segments grown by dominant normal (`grown`: group and triangles, each of
+/// at least `min_triangles`): absorption, free-plane growth, merging (see the module
+/// docs). Segments below `min_triangles` afterwards are dropped.
+pub(crate) fn refine(
+    mesh: &HalfEdgeMesh,
+    grown: Vec<(u32, Vec<u32>)>,
+    config: &SegmentationConfig,
+) -> Refined {
+    let Some(normals) = mesh.triangle_normals() else {
+        return Refined { segments: grown };
+    };
+    let m = Mesh {
+        vertices: mesh.vertices(),
+        triangles: mesh.triangles(),
+        twins: mesh.halfedges(),
+        normals,
+        lmax2: if config.lmax > 0.0 {
+            config.lmax * config.lmax
+        } else {
+            f64::INFINITY
+        },
+        z_thresh: if config.z_thresh > 0.0 {
+            config.z_thresh
+        } else {
+            f64::INFINITY
+        },
+        norm_thresh: config.norm_thresh,
+    };
+    let n = mesh.num_triangles();
+    let mut labels = vec![NONE; n];
+    let mut segments = grown;
+    for (s, (_, triangles)) in segments.iter().enumerate() {
+        for &t in triangles {
+            labels[t as usize] = s as u32;
+        }
+    }
+    let planes = fitted(&m, &segments);
+    absorb(&m, &mut labels, &mut segments, &planes, 0);
+    let first_new = segments.len();
+    grow_free(&m, &mut labels, &mut segments, config.min_triangles.max(1));
+    let planes = fitted(&m, &segments);
+    absorb(&m, &mut labels, &mut segments, &planes, first_new);
+    let segments = merge(&m, &labels, segments);
+    Refined {
+        segments: segments
+            .into_iter()
+            .filter(|(_, tris)| tris.len() >= config.min_triangles.max(1))
+            .collect(),
+    }
+}
+
+/// Each segment's plane.
+fn fitted(m: &Mesh<'_>, segments: &[(u32, Vec<u32>)]) -> Vec<Option<Plane>> {
+    segments
+        .iter()
+        .map(|(_, tris)| m.sums(tris).plane())
+        .collect()
+}
+
+/// Breadth-first absorption of free usable triangles into the segments from
+/// `segments[from..]`, each against its plane in `planes`.
+fn absorb(
+    m: &Mesh<'_>,
+    labels: &mut [u32],
+    segments: &mut [(u32, Vec<u32>)],
+    planes: &[Option<Plane>],
+    from: usize,
+) {
+    let mut queue: Vec<u32> = segments[from..]
+        .iter()
+        .flat_map(|(_, tris)| tris.iter().copied())
+        .filter(|&t| {
+            m.neighbours(t)
+                .iter()
+                .any(|&u| u != NONE && labels[u as usize] == NONE)
+        })
+        .collect();
+    let mut next = 0;
+    while next < queue.len() {
+        let t = queue[next];
+        next += 1;
+        let s = labels[t as usize];
+        let Some(plane) = planes[s as usize] else {
+            continue;
+        };
+        for u in m.neighbours(t) {
+            if u == NONE || labels[u as usize] != NONE {
+                continue;
+            }
+            if m.usable(u) && m.fits(u, &plane) {
+                labels[u as usize] = s;
+                segments[s as usize].1.push(u);
+                queue.push(u);
+            }
+        }
+    }
+}
+
+/// Grows the free usable triangles into new segments by their running plane; regions of
+/// at least `min_triangles` are appended to `segments` (group [`NO_GROUP`]).
+fn grow_free(
+    m: &Mesh<'_>,
+    labels: &mut [u32],
+    segments: &mut Vec<(u32, Vec<u32>)>,
+    min_triangles: usize,
+) {
+    // Triangles a rejected region visited; they may still be absorbed, but seed no more.
+    const VISITED: u32 = NONE - 1;
+    let mut region: Vec<u32> = Vec::new();
+    for seed in 0..labels.len() as u32 {
+        if labels[seed as usize] != NONE || !m.usable(seed) {
+            continue;
+        }
+        let normal = m.normals[seed as usize];
+        let smooth = m
+            .neighbours(seed)
+            .iter()
+            .all(|&u| u != NONE && dot(m.normals[u as usize], normal) >= m.norm_thresh);
+        if !smooth {
+            continue;
+        }
+        let id = segments.len() as u32;
+        region.clear();
+        region.push(seed);
+        labels[seed as usize] = id;
+        let mut sums = PlaneSums::default();
+        sums.add_triangle(m.corners(seed));
+        let mut next = 0;
+        while next < region.len() {
+            let t = region[next];
+            next += 1;
+            let Some(plane) = sums.plane() else {
+                break;
+            };
+            for u in m.neighbours(t) {
+                if u == NONE || labels[u as usize] != NONE || !m.usable(u) {
+                    continue;
+                }
+                if dot(m.normals[u as usize], plane.normal) < m.norm_thresh {
+                    continue;
+                }
+                let c = m.corners(u);
+                let centroid = scale(add(add(c[0], c[1]), c[2]), 1.0 / 3.0);
+                if plane.distance(centroid).abs() > m.z_thresh {
+                    continue;
+                }
+                labels[u as usize] = id;
+                sums.add_triangle(c);
+                region.push(u);
+            }
+        }
+        if region.len() >= min_triangles {
+            segments.push((NO_GROUP, region.clone()));
+        } else {
+            for &t in &region {
+                labels[t as usize] = VISITED;
+            }
+        }
+    }
+    for label in labels.iter_mut() {
+        if *label == VISITED {
+            *label = NONE;
+        }
+    }
+}
+
+/// Merges segments that share an edge and fit one plane (see the module docs).
+fn merge(m: &Mesh<'_>, labels: &[u32], segments: Vec<(u32, Vec<u32>)>) -> Vec<(u32, Vec<u32>)> {
+    let mut pairs: Vec<(u32, u32)> = Vec::new();
+    for (t, &a) in labels.iter().enumerate() {
+        if a == NONE {
+            continue;
+        }
+        for u in m.neighbours(t as u32) {
+            if u != NONE {
+                let b = labels[u as usize];
+                if b != NONE && a < b {
+                    pairs.push((a, b));
+                }
+            }
+        }
+    }
+    pairs.sort_unstable();
+    let mut counted: Vec<(usize, u32, u32)> = Vec::new();
+    for &(a, b) in &pairs {
+        match counted.last_mut() {
+            Some((count, x, y)) if (*x, *y) == (a, b) => *count += 1,
+            _ => counted.push((1, a, b)),
+        }
+    }
+    // Longest shared boundaries first.
+    counted.sort_unstable_by_key(|&(count, a, b)| (std::cmp::Reverse(count), a, b));
+
+    let mut sums: Vec<PlaneSums> = segments.iter().map(|(_, tris)| m.sums(tris)).collect();
+    let mut parent: Vec<u32> = (0..segments.len() as u32).collect();
+    let find = |parent: &mut [u32], mut x: u32| {
+        while parent[x as usize] != x {
+            let up = parent[parent[x as usize] as usize];
+            parent[x as usize] = up;
+            x = up;
+        }
+        x
+    };
+    let floor = merge_floor(m.z_thresh);
+    for (_, a, b) in counted {
+        let (ra, rb) = (find(&mut parent, a), find(&mut parent, b));
+        if ra == rb {
+            continue;
+        }
+        let (sa, sb) = (sums[ra as usize], sums[rb as usize]);
+        let (Some(pa), Some(pb)) = (sa.plane(), sb.plane()) else {
+            continue;
+        };
+        if dot(pa.normal, pb.normal) < m.norm_thresh {
+            continue;
+        }
+        let Some(merged) = one_plane(&sa, &sb, floor) else {
+            continue;
+        };
+        // The lower index stays the root: grown segments before free planes.
+        let (root, child) = (ra.min(rb), ra.max(rb));
+        parent[child as usize] = root;
+        sums[root as usize] = merged;
+    }
+    let mut out: Vec<Option<(u32, Vec<u32>)>> = segments.into_iter().map(Some).collect();
+    for s in 0..out.len() as u32 {
+        let root = find(&mut parent, s);
+        if root != s {
+            if let Some((_, tris)) = out[s as usize].take() {
+                if let Some((_, into)) = out[root as usize].as_mut() {
+                    into.extend(tris);
+                }
+            }
+        }
+    }
+    out.into_iter().flatten().collect()
+}
+
+/// Cosine between the normals of two segments that no edge connects for them to be taken
+/// as one plane (5°), besides the plane-fit test of merging.
+pub const COPLANAR_COS: f64 = 0.996;
+
+/// For each segment, the index of the first segment on the same plane (see
+/// [`PlanarSegment::plane`](crate::PlanarSegment::plane)): segments whose normals are within
+/// [`COPLANAR_COS`] and that one plane explains as merging requires.
+pub(crate) fn coplanar(
+    mesh: &HalfEdgeMesh,
+    segments: &[crate::PlanarSegment],
+    config: &SegmentationConfig,
+) -> Vec<u32> {
+    use rayon::prelude::*;
+    let vertices = mesh.vertices();
+    let triangles = mesh.triangles();
+    let sums: Vec<PlaneSums> = segments
+        .par_iter()
+        .map(|s| {
+            let mut sums = PlaneSums::default();
+            for &t in &s.triangles {
+                sums.add_triangle(corners(vertices, triangles[t as usize]));
+            }
+            sums
+        })
+        .collect();
+    let floor = merge_floor(config.z_thresh);
+    let mut plane: Vec<u32> = (0..segments.len() as u32).collect();
+    let mut members: Vec<PlaneSums> = sums.clone();
+    for j in 0..segments.len() {
+        let Some(pj) = sums[j].plane() else { continue };
+        for i in 0..j {
+            if plane[i] != i as u32 {
+                continue;
+            }
+            let Some(pi) = members[i].plane() else {
+                continue;
+            };
+            if dot(pi.normal, pj.normal) < COPLANAR_COS {
+                continue;
+            }
+            if let Some(merged) = one_plane(&members[i], &sums[j], floor) {
+                plane[j] = i as u32;
+                members[i] = merged;
+                break;
+            }
+        }
+    }
+    plane
+}
+
+/// The rms floor under which two pieces count as one plane whatever their own spread.
+fn merge_floor(z_thresh: f64) -> f64 {
+    if z_thresh.is_finite() && z_thresh > 0.0 {
+        z_thresh / 8.0
+    } else {
+        0.0
+    }
+}
+
+/// The sums of `a` and `b` together if one plane explains both: each one's RMS distance to
+/// the merged plane is at most [`MERGE_RMS_GROWTH`] times the larger of their own, or
+/// `floor`.
+fn one_plane(a: &PlaneSums, b: &PlaneSums, floor: f64) -> Option<PlaneSums> {
+    let (pa, pb) = (a.plane()?, b.plane()?);
+    let merged = a.merged(b);
+    let pm = merged.plane()?;
+    let bound = (MERGE_RMS_GROWTH * a.rms(&pa).max(b.rms(&pb))).max(floor);
+    (a.rms(&pm) <= bound && b.rms(&pm) <= bound).then_some(merged)
+}
