@@ -1,8 +1,10 @@
 //! Project automation for polylidar-rs.
 //!
-//! `cargo xtask bench [--quick] [--out docs/bench] [--fixtures DIR] [--threads 1,2,4]
+//! `cargo xtask bench [--quick] [--publish | --out DIR] [--fixtures DIR] [--threads 1,2,4]
 //! [--only TABLE,…]` measures the pipeline stages the way the Polylidar3D and Polylidar
-//! (2D) papers' tables do and writes markdown tables and PNG charts to `docs/bench/`, with
+//! (2D) papers' tables do and writes markdown tables and PNG charts to `target/bench/`
+//! (the committed `docs/bench/` only with `--publish`, so a trial run leaves the checkout
+//! clean), with
 //! the machine, thread counts, run counts and the paper's figures beside ours. The
 //! `cargo xtask` alias builds in release mode. Add `--features gpu` (run it as
 //! `cargo run -p xtask --release --features gpu -- bench`) for the GPU smoothing rows.
@@ -44,17 +46,21 @@ struct Cli {
 /// The tasks.
 #[derive(Debug, Subcommand)]
 enum Command {
-    /// Reproduce the papers' timing and accuracy tables into docs/bench/.
+    /// Reproduce the papers' timing and accuracy tables into target/bench/ (docs/bench/
+    /// with --publish).
     Bench(BenchArgs),
 }
 
 /// Options of `cargo xtask bench`.
 #[derive(Debug, clap::Args)]
 struct BenchArgs {
-    /// Fewer runs and sizes: finishes in about two minutes on two cores.
+    /// Fewer runs and sizes: under a minute on two cores (as docs/bench/README.md says).
     #[arg(long)]
     quick: bool,
-    /// Output folder (default: docs/bench in the workspace).
+    /// Write into the committed docs/bench/ of the workspace instead of target/bench/.
+    #[arg(long, conflicts_with = "out")]
+    publish: bool,
+    /// Output folder (default: target/bench in the workspace; docs/bench with --publish).
     #[arg(long)]
     out: Option<PathBuf>,
     /// Shared fixtures folder (default: ../shared/fixtures next to the workspace).
@@ -98,10 +104,11 @@ fn bench(args: BenchArgs) -> Result<()> {
         .parent()
         .map(PathBuf::from)
         .ok_or_else(|| msg("the xtask is not inside a workspace"))?;
-    let out = args
-        .out
-        .clone()
-        .unwrap_or_else(|| workspace.join("docs").join("bench"));
+    let out = match (&args.out, args.publish) {
+        (Some(out), _) => out.clone(),
+        (None, true) => workspace.join("docs").join("bench"),
+        (None, false) => workspace.join("target").join("bench"),
+    };
     let ctx = Ctx {
         quick: args.quick,
         out,
