@@ -174,3 +174,32 @@ pub fn truth_plane_rmse(frame: &LabelledCloud) -> Option<f64> {
     }
     (n > 0).then(|| (sse / n as f64).sqrt())
 }
+
+/// An RGB-D frame from `synthscan`: the furnished room `seed` of `synthscan::rgbd_like`,
+/// scanned by the depth camera `kind` with its error model (noise seeded by `seed`), and its
+/// labels.
+///
+/// # Errors
+/// Scene placement or scanning errors.
+pub fn rgbd_frame(seed: u64, kind: synthscan::DepthCameraKind) -> Result<LabelledCloud> {
+    rgbd_frame_with(seed, kind, kind.model())
+}
+
+/// As [`rgbd_frame`], with the depth camera's error `model` replaced (e.g.
+/// `synthscan::DepthModel::ideal()` for error-free depth).
+///
+/// # Errors
+/// Scene placement or scanning errors, or an invalid model.
+pub fn rgbd_frame_with(
+    seed: u64,
+    kind: synthscan::DepthCameraKind,
+    model: synthscan::DepthModel,
+) -> Result<LabelledCloud> {
+    let (scene, camera) = synthscan::rgbd_like(seed, kind)?;
+    let scan = scene.scan_depth(&camera.with_model(model)?, seed)?;
+    let cloud = OrganizedPointCloud::new(scan.rows, scan.cols, scan.points)?;
+    Ok(LabelledCloud {
+        cloud,
+        labels: scan.labels,
+    })
+}

@@ -4,6 +4,7 @@ mod accuracy;
 mod fastga;
 mod pipeline;
 mod realsense;
+mod rgbd_accuracy;
 mod scaling;
 mod shapes2d;
 mod smoothing;
@@ -71,6 +72,12 @@ pub const ALL: &[TableSpec] = &[
         aliases: &["10", "table10"],
         files: &["table10_synpeb_accuracy.md"],
         run: synpeb_accuracy::run,
+    },
+    TableSpec {
+        key: "rgbd-accuracy",
+        aliases: &["10b"],
+        files: &["table10b_rgbd_accuracy.md"],
+        run: rgbd_accuracy::run,
     },
 ];
 
