@@ -14,6 +14,7 @@
 
 mod args;
 mod evaluate;
+mod font;
 mod geojson;
 mod input;
 mod params;
