@@ -1,0 +1,158 @@
+//! How `polylidar extract` chooses and reports parameters: units, lengths from the point
+//! spacing, explanations of empty results and `--strict`, flag forms and warnings.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn polylidar(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_polylidar"))
+        .args(args)
+        .output()
+        .expect("the binary runs")
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("polylidar-params-{}-{name}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// A flat `n × n` grid of 3D points `spacing` apart, with a small tilt so no three are
+/// exactly collinear along the diagonals, as CSV.
+fn flat_cloud(dir: &Path, n: usize, spacing: f64) -> PathBuf {
+    let mut text = String::from("x,y,z\n");
+    for i in 0..n {
+        for j in 0..n {
+            let (x, y) = (i as f64 * spacing, j as f64 * spacing);
+            text.push_str(&format!("{x},{y},{}\n", 0.001 * x));
+        }
+    }
+    let path = dir.join(format!("cloud-{n}-{spacing}.csv"));
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+fn json(output: &Output) -> serde_json::Value {
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    serde_json::from_slice(&output.stdout).expect("stdout is one JSON object")
+}
+
+#[test]
+fn lmax_comes_from_the_spacing_when_not_given() {
+    let dir = scratch("spacing");
+    let cloud = flat_cloud(&dir, 30, 0.5);
+    let out = json(&polylidar(&["extract", cloud.to_str().unwrap(), "--json"]));
+    let params = &out["parameters"];
+    assert_eq!(params["spacing"], 0.5);
+    assert_eq!(params["lmax"], 4.0 * 0.5);
+    assert_eq!(params["unit_source"], "assumed");
+    assert_eq!(out["counts"]["polygons"], 1);
+    // Given explicitly, it is kept.
+    let out = json(&polylidar(&[
+        "extract",
+        cloud.to_str().unwrap(),
+        "--json",
+        "--lmax",
+        "0.75",
+    ]));
+    assert_eq!(out["parameters"]["lmax"], 0.75);
+}
+
+#[test]
+fn presets_are_converted_into_the_units() {
+    let dir = scratch("units");
+    // Spacing 0.05: four spacings stay below rooftop's lmax in either unit.
+    let cloud = flat_cloud(&dir, 40, 0.05);
+    let lmax = |units: &str| {
+        let out = json(&polylidar(&[
+            "extract",
+            cloud.to_str().unwrap(),
+            "--preset",
+            "rooftop",
+            "--units",
+            units,
+            "--json",
+        ]));
+        assert_eq!(out["parameters"]["unit"], units);
+        out["parameters"]["lmax"].as_f64().unwrap()
+    };
+    assert_eq!(lmax("m"), 0.9);
+    assert!((lmax("ft") - 0.9 / 0.3048).abs() < 1e-12);
+    assert!((lmax("us-ft") - 0.9 * 3937.0 / 1200.0).abs() < 1e-12);
+    assert!(
+        !polylidar(&["extract", cloud.to_str().unwrap(), "--units", "yd"])
+            .status
+            .success()
+    );
+}
+
+#[test]
+fn an_empty_result_is_explained_and_strict_exits_3() {
+    let dir = scratch("strict");
+    let cloud = flat_cloud(&dir, 20, 1.0);
+    let args = ["extract", cloud.to_str().unwrap(), "--lmax", "0.5"];
+    let out = polylidar(&args);
+    assert_eq!(out.status.code(), Some(0));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("lmax dropped"), "{stderr}");
+    assert!(stderr.contains("try --lmax 4"), "{stderr}");
+    let strict = polylidar(&[&args[..], &["--strict"]].concat());
+    assert_eq!(strict.status.code(), Some(3));
+    // The suggested value brings the polygon back.
+    let fixed = polylidar(&[
+        "extract",
+        cloud.to_str().unwrap(),
+        "--lmax",
+        "4",
+        "--strict",
+    ]);
+    assert_eq!(fixed.status.code(), Some(0));
+    let stderr = String::from_utf8_lossy(&fixed.stderr);
+    assert!(stderr.contains("1 polygon,"), "{stderr}");
+}
+
+#[test]
+fn up_takes_commas_or_spaces_and_needs_three_numbers() {
+    let dir = scratch("up");
+    let cloud = flat_cloud(&dir, 15, 1.0);
+    let path = cloud.to_str().unwrap();
+    let commas = json(&polylidar(&["extract", path, "--json", "--up", "0,0,1"]));
+    let spaces = json(&polylidar(&[
+        "extract", path, "--json", "--up", "0", "0", "1",
+    ]));
+    assert_eq!(commas["counts"], spaces["counts"]);
+    assert_eq!(commas["counts"]["polygons"], 1);
+    let short = polylidar(&["extract", path, "--up", "0", "1"]);
+    assert_eq!(short.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&short.stderr).contains("three numbers"));
+}
+
+#[test]
+fn flags_that_do_not_apply_are_reported() {
+    let dir = scratch("warn");
+    let (rows, cols) = (20, 30);
+    let grid: Vec<f64> = (0..rows * cols)
+        .flat_map(|i| [(i % cols) as f64 * 0.01, (i / cols) as f64 * 0.01, 1.0])
+        .collect();
+    let npy = dir.join("organized.npy");
+    polylidar_io::write_npy_f64(&npy, &[rows, cols, 3], &grid).unwrap();
+    let out = polylidar(&[
+        "extract",
+        npy.to_str().unwrap(),
+        "--alpha",
+        "1",
+        "--up",
+        "0,1,0",
+    ]);
+    assert!(out.status.success());
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("warning: --alpha does not apply"),
+        "{stderr}"
+    );
+    assert!(stderr.contains("warning: --up does not apply"), "{stderr}");
+}
