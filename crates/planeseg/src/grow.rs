@@ -52,6 +52,12 @@ pub struct SegmentationCounts {
     pub holes: usize,
     /// Holes dropped for having fewer than `min_hole_vertices` vertices.
     pub holes_too_small: usize,
+    /// Refinement: free triangles absorbed into a neighbouring segment.
+    pub absorbed: usize,
+    /// Refinement: planes grown from triangles no dominant normal took.
+    pub free_planes: usize,
+    /// Refinement: segments merged into a neighbour on the same plane.
+    pub merged: usize,
 }
 
 /// The result of [`segment`].
@@ -207,10 +213,14 @@ fn grow_all(
             Outcome::Region(g, triangles) => regions.push((g, triangles)),
         }
     }
+    let kept_grown = regions.len() + results.len();
     if config.refine {
         // Growth order depends on the threads; refinement must not.
         regions.sort_unstable_by_key(|(g, triangles)| (*g, triangles.iter().min().copied()));
         let refined = crate::refine::refine(mesh, regions, config);
+        counts.absorbed = refined.absorbed;
+        counts.free_planes = refined.free_planes;
+        counts.merged = refined.merged;
         results = refined
             .segments
             .into_par_iter()
@@ -229,7 +239,7 @@ fn grow_all(
         counts.holes_too_small += segment.holes_too_small;
         segments.push(segment);
     }
-    counts.segments_too_small = counts.segments_grown - segments.len();
+    counts.segments_too_small = counts.segments_grown - kept_grown;
     let planes = if config.refine {
         crate::refine::coplanar(mesh, &segments, config)
     } else {

@@ -146,6 +146,12 @@ impl PlaneSums {
 /// (the dominant normal's index, or [`NO_GROUP`] for a plane grown from free triangles).
 pub(crate) struct Refined {
     pub segments: Vec<(u32, Vec<u32>)>,
+    /// Free triangles absorbed into a segment.
+    pub absorbed: usize,
+    /// Segments grown from free triangles.
+    pub free_planes: usize,
+    /// Segments merged into another.
+    pub merged: usize,
 }
 
 /// What refinement reads of the mesh.
@@ -218,7 +224,12 @@ pub(crate) fn refine(
     config: &SegmentationConfig,
 ) -> Refined {
     let Some(normals) = mesh.triangle_normals() else {
-        return Refined { segments: grown };
+        return Refined {
+            segments: grown,
+            absorbed: 0,
+            free_planes: 0,
+            merged: 0,
+        };
     };
     let m = Mesh {
         vertices: mesh.vertices(),
@@ -246,17 +257,22 @@ pub(crate) fn refine(
         }
     }
     let planes = fitted(&m, &segments);
-    absorb(&m, &mut labels, &mut segments, &planes, 0);
+    let mut absorbed = absorb(&m, &mut labels, &mut segments, &planes, 0);
     let first_new = segments.len();
     grow_free(&m, &mut labels, &mut segments, config.min_triangles.max(1));
+    let free_planes = segments.len() - first_new;
     let planes = fitted(&m, &segments);
-    absorb(&m, &mut labels, &mut segments, &planes, first_new);
+    absorbed += absorb(&m, &mut labels, &mut segments, &planes, first_new);
+    let before = segments.len();
     let segments = merge(&m, &labels, segments);
     Refined {
+        merged: before - segments.len(),
         segments: segments
             .into_iter()
             .filter(|(_, tris)| tris.len() >= config.min_triangles.max(1))
             .collect(),
+        absorbed,
+        free_planes,
     }
 }
 
@@ -269,14 +285,15 @@ fn fitted(m: &Mesh<'_>, segments: &[(u32, Vec<u32>)]) -> Vec<Option<Plane>> {
 }
 
 /// Breadth-first absorption of free usable triangles into the segments from
-/// `segments[from..]`, each against its plane in `planes`.
+/// `segments[from..]`, each against its plane in `planes`; returns how many joined.
 fn absorb(
     m: &Mesh<'_>,
     labels: &mut [u32],
     segments: &mut [(u32, Vec<u32>)],
     planes: &[Option<Plane>],
     from: usize,
-) {
+) -> usize {
+    let mut absorbed = 0;
     let mut queue: Vec<u32> = segments[from..]
         .iter()
         .flat_map(|(_, tris)| tris.iter().copied())
@@ -302,9 +319,11 @@ fn absorb(
                 labels[u as usize] = s;
                 segments[s as usize].1.push(u);
                 queue.push(u);
+                absorbed += 1;
             }
         }
     }
+    absorbed
 }
 
 /// Grows the free usable triangles into new segments by their running plane; regions of

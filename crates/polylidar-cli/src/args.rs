@@ -104,13 +104,23 @@ pub struct ExtractArgs {
 /// Arguments of `polylidar evaluate`.
 #[derive(Debug, Args)]
 pub struct EvaluateArgs {
-    /// The organized cloud and the parameters to segment it with.
+    /// The organized cloud (or `--demo scene`) and the parameters to segment it with.
     #[command(flatten)]
     pub input: InputArgs,
     /// Ground-truth plane per pixel: int32 (or int64) H×W or N .npy, -1 for none.
-    /// Required unless `--demo` (which knows its ground truth).
-    #[arg(long, value_name = "FILE", required_unless_present = "demo")]
+    /// Default: the demo's ground truth, or a PCD's `label` field (-1 for none) or
+    /// `intensity` field with SynPEB's convention (plane ids from 10; smaller values are
+    /// no plane).
+    #[arg(long, value_name = "FILE")]
     pub labels: Option<PathBuf>,
+    /// Draw the ground truth into a PNG: each missed, split or merged plane in the colour
+    /// of its cause, correctly found planes in grey-green, spurious planes hatched.
+    #[arg(long, value_name = "FILE")]
+    pub plot: Option<PathBuf>,
+    /// Print one JSON object (input, scores, causes of misses, timings) instead of the
+    /// summary.
+    #[arg(long)]
+    pub json: bool,
     /// Score these predicted labels (same layout as `--labels`) instead of running the
     /// pipeline.
     #[arg(long, value_name = "FILE")]

@@ -142,7 +142,7 @@ fn extract(args: &ExtractArgs) -> Result<Outcome, CliError> {
         Some(truth) => Some(evaluate::score(
             &input,
             truth,
-            &extraction.point_labels(),
+            &extraction.plane_labels(),
             0.8,
         )?),
         None => None,

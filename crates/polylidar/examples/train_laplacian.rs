@@ -62,7 +62,7 @@ fn score(
         l.iterations = iterations;
     }
     let extraction = Polylidar::new(config)?.extract_organized(cloud)?;
-    let labels = extraction.point_labels();
+    let labels = extraction.plane_labels();
     let e = evaluate(
         &scan.points,
         &scan.labels,

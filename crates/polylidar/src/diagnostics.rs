@@ -34,6 +34,12 @@ pub struct Counts {
     pub holes_too_small: usize,
     /// 3D: dominant plane normals used for segmentation.
     pub dominant_normals: usize,
+    /// 3D with refinement: triangles absorbed into a neighbouring plane's region.
+    pub absorbed: usize,
+    /// 3D with refinement: planes grown without a dominant normal.
+    pub free_planes: usize,
+    /// 3D with refinement: regions merged into a neighbour on the same plane.
+    pub merged: usize,
     /// Polygons after post-processing (a polygon may split into several or vanish).
     pub postprocessed_polygons: usize,
     /// Polygons dropped by post-processing (area below γ, or not repairable).

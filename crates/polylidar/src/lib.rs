@@ -37,6 +37,7 @@ mod diagnostics;
 mod error;
 pub mod explain;
 mod filter;
+pub mod misses;
 mod noise;
 mod pipeline;
 mod pipeline3d;

@@ -158,6 +158,9 @@ impl Polylidar {
         counts.regions_too_small = c.segments_too_small;
         counts.holes = c.holes;
         counts.holes_too_small = c.holes_too_small;
+        counts.absorbed = c.absorbed;
+        counts.free_planes = c.free_planes;
+        counts.merged = c.merged;
         let vertices = mesh.vertices();
         let polygons: Vec<ExtractedPolygon> = found
             .segments

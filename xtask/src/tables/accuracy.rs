@@ -13,7 +13,7 @@ use crate::error::Result;
 /// # Errors
 /// Mismatched sizes or labels `seg-metrics` rejects.
 pub fn score(frame: &LabelledCloud, extraction: &Extraction) -> Result<Evaluation> {
-    let predicted = extraction.point_labels();
+    let predicted = extraction.plane_labels();
     Ok(evaluate(
         frame.cloud.points(),
         &frame.labels,

@@ -1,0 +1,186 @@
+//! Refinement on scenes with known planes: planes that are no dominant normal, a plane cut
+//! into bands by `z_thresh`, noisy triangles left out by `norm_thresh`, and one plane seen
+//! in two pieces.
+
+use halfedge_mesh::HalfEdgeMesh;
+use planeseg::{NO_GROUP, PlanarSegment, SegmentationConfig, segment};
+
+/// An `n × n` grid of unit cells over `x, y`, lifted by `height`, two triangles a cell.
+fn height_field(n: usize, height: impl Fn(f64, f64) -> f64) -> HalfEdgeMesh {
+    let vertices = (0..=n * (n + 1) + n)
+        .map(|i| {
+            let (x, y) = ((i % (n + 1)) as f64, (i / (n + 1)) as f64);
+            [x, y, height(x, y)]
+        })
+        .collect();
+    let id = |x: usize, y: usize| (y * (n + 1) + x) as u32;
+    let triangles = (0..n * n)
+        .flat_map(|cell| {
+            let (x, y) = (cell % n, cell / n);
+            [
+                [id(x, y), id(x + 1, y), id(x + 1, y + 1)],
+                [id(x, y), id(x + 1, y + 1), id(x, y + 1)],
+            ]
+        })
+        .collect();
+    let mut mesh = HalfEdgeMesh::from_triangles(vertices, triangles).unwrap();
+    mesh.compute_triangle_normals();
+    mesh
+}
+
+/// The triangles whose three corners satisfy `inside`, sorted.
+fn triangles_where(mesh: &HalfEdgeMesh, inside: impl Fn([f64; 3]) -> bool) -> Vec<u32> {
+    let v = mesh.vertices();
+    (0..mesh.num_triangles() as u32)
+        .filter(|&t| {
+            mesh.triangles()[t as usize]
+                .iter()
+                .all(|&i| inside(v[i as usize]))
+        })
+        .collect()
+}
+
+fn sorted(segment: &PlanarSegment) -> Vec<u32> {
+    let mut t = segment.triangles.clone();
+    t.sort_unstable();
+    t
+}
+
+fn config(refine: bool) -> SegmentationConfig {
+    SegmentationConfig::new()
+        .with_norm_thresh(0.95)
+        .with_z_thresh(0.3)
+        .with_min_triangles(10)
+        .with_refine(refine)
+}
+
+const UP: [f64; 3] = [0.0, 0.0, 1.0];
+
+#[test]
+fn planes_that_are_no_dominant_normal_are_grown() {
+    // Floor for x ≤ 10, a 30° ramp up to x = 20, a 20° ramp down to x = 30; the only
+    // dominant normal is the floor's.
+    let (t30, t20) = (30f64.to_radians().tan(), 20f64.to_radians().tan());
+    let mesh = height_field(30, |x, _| {
+        if x <= 10.0 {
+            0.0
+        } else if x <= 20.0 {
+            (x - 10.0) * t30
+        } else {
+            10.0 * t30 - (x - 20.0) * t20
+        }
+    });
+    let paper = segment(&mesh, &[UP], &config(false)).unwrap();
+    assert_eq!(
+        paper.segments.len(),
+        1,
+        "the paper's growth finds the floor only"
+    );
+
+    let refined = segment(&mesh, &[UP], &config(true)).unwrap();
+    assert_eq!(refined.segments.len(), 3);
+    let floor = triangles_where(&mesh, |p| p[0] <= 10.0);
+    let up = triangles_where(&mesh, |p| (10.0..=20.0).contains(&p[0]));
+    let down = triangles_where(&mesh, |p| p[0] >= 20.0);
+    let found: Vec<Vec<u32>> = refined.segments.iter().map(sorted).collect();
+    assert_eq!(found, vec![floor, up, down]);
+    assert_eq!(refined.segments[0].group, 0);
+    for (s, degrees) in refined.segments[1..].iter().zip([30f64, -20.0]) {
+        assert_eq!(s.group, NO_GROUP);
+        let (sin, cos) = degrees.to_radians().sin_cos();
+        let expected = [-sin, 0.0, cos];
+        for k in 0..3 {
+            assert!((s.normal[k] - expected[k]).abs() < 1e-9, "{:?}", s.normal);
+        }
+    }
+}
+
+#[test]
+fn a_plane_cut_into_bands_by_z_thresh_is_merged() {
+    // A plane 10° off the dominant normal: along x its offset drifts by 0.18 a cell, so
+    // the paper's growth (within 0.3 of the seed) cuts it into narrow bands.
+    let slope = 10f64.to_radians().tan();
+    let mesh = height_field(30, |x, _| x * slope);
+    let paper = segment(&mesh, &[UP], &config(false)).unwrap();
+    assert!(paper.segments.len() > 5, "{} bands", paper.segments.len());
+
+    let refined = segment(&mesh, &[UP], &config(true)).unwrap();
+    assert_eq!(refined.segments.len(), 1);
+    assert_eq!(refined.segments[0].triangles.len(), mesh.num_triangles());
+    assert!(refined.segments[0].polygon.holes.is_empty());
+}
+
+#[test]
+fn noisy_triangles_on_a_plane_are_absorbed() {
+    // A floor with every seventh vertex raised by 0.45: the triangles around it tilt by
+    // more than norm_thresh allows (24°), yet lie within z_thresh = 0.5 of the floor.
+    let mesh = height_field(30, |x, y| {
+        if (x as usize * 31 + y as usize) % 7 == 0 && x > 0.0 && y > 0.0 && x < 30.0 && y < 30.0 {
+            0.45
+        } else {
+            0.0
+        }
+    });
+    let config = |refine| config(refine).with_z_thresh(0.5);
+    let paper = segment(&mesh, &[UP], &config(false)).unwrap();
+    let paper_triangles: usize = paper.segments.iter().map(|s| s.triangles.len()).sum();
+    assert!(
+        paper_triangles < mesh.num_triangles() * 3 / 4,
+        "{paper_triangles}"
+    );
+
+    let refined = segment(&mesh, &[UP], &config(true)).unwrap();
+    assert_eq!(refined.segments.len(), 1);
+    assert_eq!(refined.segments[0].triangles.len(), mesh.num_triangles());
+}
+
+#[test]
+fn pieces_of_one_plane_share_a_plane_id() {
+    // A floor cut in two by a trench 5 deep across 12 ≤ x ≤ 18; the trench's bottom is
+    // parallel to the floor but another plane.
+    let mesh = height_field(30, |x, _| {
+        if (12.0..=18.0).contains(&x) {
+            -5.0
+        } else {
+            0.0
+        }
+    });
+    let refined = segment(&mesh, &[UP], &config(true)).unwrap();
+    let left = triangles_where(&mesh, |p| p[0] <= 12.0 && p[2] == 0.0);
+    let right = triangles_where(&mesh, |p| p[0] >= 18.0 && p[2] == 0.0);
+    let bottom = triangles_where(&mesh, |p| p[2] == -5.0);
+    let index_of = |triangles: &[u32]| {
+        refined
+            .segments
+            .iter()
+            .position(|s| sorted(s) == triangles)
+            .unwrap()
+    };
+    let (l, r, b) = (index_of(&left), index_of(&right), index_of(&bottom));
+    let plane = |i: usize| refined.segments[i].plane;
+    assert_eq!(plane(l), plane(r));
+    assert_eq!(plane(l), l.min(r) as u32);
+    assert_ne!(plane(b), plane(l));
+    assert_eq!(plane(b), b as u32);
+
+    // Without refinement every segment is its own plane.
+    let paper = segment(&mesh, &[UP], &config(false)).unwrap();
+    for (i, s) in paper.segments.iter().enumerate() {
+        assert_eq!(s.plane, i as u32);
+    }
+}
+
+#[test]
+fn refinement_does_not_depend_on_the_thread_count() {
+    let mesh = height_field(40, |x, y| ((x * 0.37).sin() + (y * 0.23).cos()) * 0.8);
+    let run = |threads| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| segment(&mesh, &[UP, [0.6, 0.0, 0.8]], &config(true)).unwrap())
+    };
+    let one = run(1);
+    assert!(!one.segments.is_empty());
+    assert_eq!(one, run(3));
+}
