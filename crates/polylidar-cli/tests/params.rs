@@ -1,5 +1,6 @@
 //! How `polylidar extract` chooses and reports parameters: units, lengths from the point
 //! spacing, explanations of empty results and `--strict`, flag forms and warnings.
+#![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};

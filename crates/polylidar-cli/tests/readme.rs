@@ -6,6 +6,7 @@
 //! this test makes them: the ICL-NUIM depth frame with its intrinsics as a RealSense
 //! metadata CSV, a generated room meshed with edges up to 10 cm, and 10,000 points sampled
 //! inside `shapes/caholes.geojson` (whose area the polygons must recover).
+#![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
