@@ -76,28 +76,29 @@ pub struct ExtractArgs {
     #[command(flatten)]
     pub input: InputArgs,
     /// Write the polygons as a GeoJSON FeatureCollection.
-    #[arg(short, long, value_name = "FILE")]
+    #[arg(short, long, value_name = "FILE", help_heading = "Output")]
     pub output: Option<PathBuf>,
     /// Write the polygons as extracted, even when the parameters post-process them.
-    #[arg(long)]
+    #[arg(long, help_heading = "Output")]
     pub raw: bool,
-    /// Draw the polygons into a PNG picture: over the range image for organized input, seen
-    /// along `up` otherwise.
-    #[arg(long, value_name = "FILE")]
+    /// Draw the polygons into a PNG picture with a legend: over the range image for
+    /// organized input, over a hillshade of the heights seen along `up` for unorganized
+    /// clouds, an oblique view for meshes, the points for 2D input.
+    #[arg(long, value_name = "FILE", help_heading = "Output")]
     pub plot: Option<PathBuf>,
     /// Organized input: write the plane (polygon index) of every pixel as an int32 H×W
     /// .npy, -1 for none.
-    #[arg(long, value_name = "FILE")]
+    #[arg(long, value_name = "FILE", help_heading = "Output")]
     pub labels_out: Option<PathBuf>,
     /// Print one JSON object with input, counts and median stage timings on stdout.
-    #[arg(long)]
+    #[arg(long, help_heading = "Output")]
     pub json: bool,
     /// Run the pipeline this many times on the loaded data; timings are medians.
-    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..))]
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..), help_heading = "Output")]
     pub repeat: u32,
     /// Exit with code 3 when nothing, or nearly nothing (under 1 % of the triangles), is
     /// found. Without it the exit code is 0 and the explanation is only printed.
-    #[arg(long)]
+    #[arg(long, help_heading = "Output")]
     pub strict: bool,
 }
 
@@ -157,31 +158,42 @@ pub struct GenerateArgs {
 /// (3D) use `lmax`, `min-triangles`, `min-hole-vertices`, `norm-thresh`, `z-thresh` and,
 /// organized only, `no-smoothing`. A flag that does not apply is reported and ignored.
 #[derive(Debug, Args, Default)]
-#[command(next_help_heading = "Parameters (override the preset and --config)")]
 pub struct ParamArgs {
     /// 2D / 2.5D: keep triangles whose circumradius is at most this (0 disables), in
     /// `--units`. Default: 2D input: 4.2 × the median point spacing unless `--lmax` is
     /// given; otherwise 0.
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(
+        long,
+        allow_negative_numbers = true,
+        help_heading = "Parameters (override the preset and --config)"
+    )]
     pub alpha: Option<f64>,
     /// Keep triangles whose longest edge is at most this (0 disables), in `--units`.
     /// Default: the preset's; 2.5D input: at least 4 × the median point spacing; 0 (off)
     /// for 2D input without a preset.
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(
+        long,
+        allow_negative_numbers = true,
+        help_heading = "Parameters (override the preset and --config)"
+    )]
     pub lmax: Option<f64>,
     /// Drop regions with fewer triangles than this. Default: the preset's, else 20.
-    #[arg(long)]
+    #[arg(long, help_heading = "Parameters (override the preset and --config)")]
     pub min_triangles: Option<usize>,
     /// Drop holes with fewer vertices than this. Default: the preset's, else 3.
-    #[arg(long)]
+    #[arg(long, help_heading = "Parameters (override the preset and --config)")]
     pub min_hole_vertices: Option<usize>,
     /// 2.5D / 3D: minimum cosine between a triangle normal and its plane's (2.5D: the up
     /// vector). Default: the preset's, else 0.9 (about 26°).
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(
+        long,
+        allow_negative_numbers = true,
+        help_heading = "Parameters (override the preset and --config)"
+    )]
     pub norm_thresh: Option<f64>,
     /// 3D: largest point-to-plane distance of a triangle's centroid while growing a plane,
     /// in `--units` (0 disables). Default: the preset's, else 0.
-    #[arg(long)]
+    #[arg(long, help_heading = "Parameters (override the preset and --config)")]
     pub z_thresh: Option<f64>,
     /// 2.5D: the up vector, as `0,0,1` or `0 0 1`. Default: 0,0,1.
     #[arg(
@@ -189,13 +201,14 @@ pub struct ParamArgs {
         value_delimiter = ',',
         num_args = 1..=3,
         allow_negative_numbers = true,
-        value_name = "X,Y,Z"
+        value_name = "X,Y,Z",
+        help_heading = "Parameters (override the preset and --config)"
     )]
     pub up: Option<Vec<f64>>,
     /// Worker threads (0: one per core). Default: 0.
-    #[arg(long)]
+    #[arg(long, help_heading = "Parameters (override the preset and --config)")]
     pub threads: Option<usize>,
     /// Organized clouds: skip the preset's Laplacian and bilateral smoothing.
-    #[arg(long)]
+    #[arg(long, help_heading = "Parameters (override the preset and --config)")]
     pub no_smoothing: bool,
 }
