@@ -226,7 +226,10 @@ fn parameters_line(run: &Run<'_>) -> String {
     let unit = match c.unit_source {
         UnitSource::Flag => format!("{} (--units)", c.unit),
         UnitSource::Header => format!("{} (LAS header)", c.unit),
-        UnitSource::Assumed => "m (assumed; --units ft if the data is in feet)".to_owned(),
+        UnitSource::Assumed if matches!(run.input, Input::Cloud(_)) => {
+            "m (assumed; --units ft if the data is in feet)".to_owned()
+        }
+        UnitSource::Assumed => "m (assumed)".to_owned(),
     };
     let mut parts = vec![match &c.preset {
         Some(name) => format!("preset {name}, lengths in {unit}"),
