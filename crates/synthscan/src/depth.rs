@@ -217,7 +217,7 @@ impl DepthModel {
         non_negative("sigma_quadratic", self.sigma_quadratic)?;
         non_negative("depth_unit", self.depth_unit)?;
         non_negative("min_depth", self.min_depth)?;
-        if !(self.max_depth > self.min_depth) {
+        if self.max_depth.is_nan() || self.max_depth <= self.min_depth {
             return Err(SceneError::InvalidParameter {
                 name: "max_depth",
                 value: self.max_depth,
@@ -506,7 +506,7 @@ impl Scene {
 /// The reported depth of a noisy depth `z`: quantised in disparity, rounded to the depth
 /// unit, inside the range; `None` if the sensor reports nothing.
 fn measure(model: &DepthModel, fb: f64, z: f64) -> Option<f64> {
-    if !(z > 0.0) {
+    if z.is_nan() || z <= 0.0 {
         return None;
     }
     let mut z = z;
@@ -584,9 +584,9 @@ fn edge_mask(depth: &[f64], rows: usize, cols: usize, jump: f64, band: usize) ->
     wide.par_chunks_mut(cols)
         .zip(edge.par_chunks(cols))
         .for_each(|(w, e)| {
-            for c in 0..cols {
+            for (c, v) in w.iter_mut().enumerate() {
                 let (lo, hi) = (c.saturating_sub(band), (c + band).min(cols - 1));
-                w[c] = e[lo..=hi].iter().any(|&x| x);
+                *v = e[lo..=hi].iter().any(|&x| x);
             }
         });
     let mut out = vec![false; edge.len()];

@@ -65,7 +65,7 @@ impl IndoorConfig {
     /// 1–3 cabinets, 1–2 desks, 0–1 shelf, 1–3 boxes and one leaning board, all drawn from
     /// `seed`.
     pub fn random(seed: u64) -> Self {
-        let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed ^ 0x5EED_0F_1D00_12AB);
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed ^ 0x005E_ED0F_1D00_12AB);
         let room_size = [
             4.0 + 1.5 * rng.random::<f64>(),
             3.2 + 1.3 * rng.random::<f64>(),

@@ -15,6 +15,11 @@
 //!   unorganized points on chosen faces.
 //! * [`synpeb_like`] gives a SynPEB-like benchmark frame: a random room and a 500 × 500
 //!   spherical sensor.
+//! * RGB-D: a [`DepthCamera`] is a pinhole camera with the [`DepthModel`] of a Kinect v1 or
+//!   RealSense D435 (depth noise `a + b·z²`, disparity quantisation, missing returns at
+//!   grazing incidence, depth edges, baseline shadows and outside the range), scanned by
+//!   [`Scene::scan_depth`]; [`rgbd_like`] gives a furnished room ([`Scene::indoor`]) and
+//!   one of the four [`DepthCameraKind`]s.
 //!
 //! Units: metres for lengths, degrees for angles, millidegrees for tangential noise. The
 //! world frame is right-handed; builders put z up and the floor on `z = 0`. Sensor frames
