@@ -54,7 +54,7 @@ pub use groups::{GroupCounts, NO_GROUP, assign_groups};
 pub use grow::{
     PlanarSegment, Segmentation, SegmentationCounts, Segmenter, geometric_plane, segment,
 };
-pub use refine::{ABSORB_COS, MERGE_RMS_GROWTH};
+pub use refine::{ABSORB_COS, COPLANAR_COS, MERGE_RMS_GROWTH, MIN_INTERIOR_SHARE};
 
 use polyextract::ExtractError;
 

@@ -12,20 +12,24 @@
 //!    and their normal is within [`ABSORB_COS`] of it: noisy triangles on the plane
 //!    fill in, triangles of a neighbouring plane in another direction do not.
 //! 2. **Grow free planes**: the triangles still free are grown into new segments by
-//!    their own plane, not a dominant normal: a neighbour joins when its normal is within
-//!    `norm_thresh` of the region's running plane normal and its centroid within
-//!    `z_thresh` of that plane. Seeds are triangles whose normal agrees with all three
-//!    neighbours'. Regions of `min_triangles` or more become segments, and absorb their
-//!    free neighbours in turn.
+//!    their own running plane, not a dominant normal: a neighbour joins when it fits the
+//!    region's plane as absorption asks (normal within [`ABSORB_COS`], corners within
+//!    `z_thresh`), so noisy normals do not stop it. Seeds are triangles whose normal is
+//!    within `norm_thresh` of all three neighbours'. Regions of `min_triangles` or more
+//!    become segments, and absorb their free neighbours in turn.
 //! 3. **Merge**: segments that share an edge merge when one plane explains both: the
 //!    normals are within `norm_thresh`, and the root mean square distance of each one's
 //!    triangles to their common plane stays within [`MERGE_RMS_GROWTH`] times the
 //!    noisier segment's own spread, or below a floor of `z_thresh / 8`; a step or a
 //!    ridge between two planes makes the common plane fit much worse.
-//! 4. **One plane, several polygons** ([`coplanar`]): after polygon extraction, segments
+//! 4. **Strips dropped**: a segment keeps only if [`MIN_INTERIOR_SHARE`] of its
+//!    triangles have all three neighbours in it.
+//!
+//! 5. **One plane, several polygons** ([`coplanar`]): after polygon extraction, segments
 //!    that no edge connects but whose normals are within [`COPLANAR_COS`] and that pass
 //!    the same plane test are reported as lying on one plane (a wall seen on both sides
 //!    of an object in front of it); each keeps its own polygon.
+//!
 //!
 //! Planes are area-weighted: the normal is the unit vector area of the triangles (which
 //! depends only on the region's boundary, so it is robust to noise inside it), the
@@ -40,9 +44,15 @@ use crate::{NO_GROUP, SegmentationConfig};
 pub(crate) const NONE: u32 = u32::MAX;
 
 /// Cosine between a free triangle's normal and a segment's plane normal for the triangle
-/// to be absorbed (60°): noisy triangles of the plane pass, those of a plane at a right
+/// to be absorbed (about 45°): noisy triangles of the plane pass, those of a plane at a right
 /// angle do not.
-pub const ABSORB_COS: f64 = 0.5;
+pub const ABSORB_COS: f64 = 0.7;
+
+/// A refined segment is kept only if at least this share of its triangles are interior
+/// (all three neighbours in the segment): strips one or two triangles wide along a depth
+/// edge or a crease are not planes, and a strip lying inside a large plane would make
+/// Hoover's scoring count that plane as split.
+pub const MIN_INTERIOR_SHARE: f64 = 0.6;
 
 /// Two segments merge if the merged plane's RMS distance is at most this factor times the
 /// larger of their own.
@@ -265,15 +275,40 @@ pub(crate) fn refine(
     absorbed += absorb(&m, &mut labels, &mut segments, &planes, first_new);
     let before = segments.len();
     let segments = merge(&m, &labels, segments);
+    let merged = before - segments.len();
+    for (s, (_, triangles)) in segments.iter().enumerate() {
+        for &t in triangles {
+            labels[t as usize] = s as u32;
+        }
+    }
+    let min = config.min_triangles.max(1);
     Refined {
-        merged: before - segments.len(),
         segments: segments
             .into_iter()
-            .filter(|(_, tris)| tris.len() >= config.min_triangles.max(1))
+            .enumerate()
+            .filter(|(s, (_, tris))| {
+                tris.len() >= min
+                    && interior(&m, &labels, *s as u32, tris) as f64
+                        >= MIN_INTERIOR_SHARE * tris.len() as f64
+            })
+            .map(|(_, segment)| segment)
             .collect(),
         absorbed,
         free_planes,
+        merged,
     }
+}
+
+/// How many of `triangles` (segment `s`) have all three neighbours in the segment.
+fn interior(m: &Mesh<'_>, labels: &[u32], s: u32, triangles: &[u32]) -> usize {
+    triangles
+        .iter()
+        .filter(|&&t| {
+            m.neighbours(t)
+                .iter()
+                .all(|&u| u != NONE && labels[u as usize] == s)
+        })
+        .count()
 }
 
 /// Each segment's plane.
@@ -366,16 +401,11 @@ fn grow_free(
                 if u == NONE || labels[u as usize] != NONE || !m.usable(u) {
                     continue;
                 }
-                if dot(m.normals[u as usize], plane.normal) < m.norm_thresh {
-                    continue;
-                }
-                let c = m.corners(u);
-                let centroid = scale(add(add(c[0], c[1]), c[2]), 1.0 / 3.0);
-                if plane.distance(centroid).abs() > m.z_thresh {
+                if !m.fits(u, &plane) {
                     continue;
                 }
                 labels[u as usize] = id;
-                sums.add_triangle(c);
+                sums.add_triangle(m.corners(u));
                 region.push(u);
             }
         }

@@ -193,6 +193,7 @@ fn generated_scan_round_trips_through_extract_and_evaluate() {
         truth.to_str().unwrap(),
         "--predicted",
         predicted.to_str().unwrap(),
+        "--json",
     ]));
     let fresh = json(&polylidar(&[
         "evaluate",
@@ -201,8 +202,38 @@ fn generated_scan_round_trips_through_extract_and_evaluate() {
         truth.to_str().unwrap(),
         "--preset",
         "synpeb",
+        "--json",
     ]));
     assert_eq!(saved["metrics"], fresh["metrics"]);
+    // Every missed and every spurious plane is explained, and the causes add up.
+    let metrics = &fresh["metrics"];
+    let causes = &fresh["causes"];
+    let explained = causes["planes"].as_array().unwrap().len() as u64;
+    let counted: u64 = causes["counts"]
+        .as_object()
+        .unwrap()
+        .values()
+        .map(|n| n.as_u64().unwrap())
+        .sum();
+    assert_eq!(explained, counted);
+    let (missed, spurious) = (
+        metrics["missed"].as_u64().unwrap(),
+        metrics["spurious"].as_u64().unwrap(),
+    );
+    assert!(explained >= missed + spurious, "{causes}");
+    let output = polylidar(&[
+        "evaluate",
+        scan.to_str().unwrap(),
+        "--labels",
+        truth.to_str().unwrap(),
+        "--preset",
+        "synpeb",
+    ]);
+    let text = String::from_utf8_lossy(&output.stdout);
+    assert!(
+        text.contains("causes:") && text.contains("ground-truth planes"),
+        "{text}"
+    );
     // Without smoothing, the smoothing stages are absent.
     let raw = json(&polylidar(&[
         "extract",

@@ -538,7 +538,7 @@ impl Config {
                     ..fastga(5, 3.0, 0.1)
                 },
                 lmax: 0.1,
-                min_triangles: 1000,
+                min_triangles: if name == "synpeb-auto" { 250 } else { 1000 },
                 z_thresh: 0.07,
                 norm_thresh: 0.95,
                 min_hole_vertices: 50,

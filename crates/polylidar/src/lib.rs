@@ -54,7 +54,9 @@ pub use diagnostics::{Counts, Diagnostics, Timings};
 pub use error::PolylidarError;
 pub use halfedge_mesh::{HalfEdgeMesh, MeshError};
 pub use noise::{
-    MAX_AUTO_ITERATIONS, estimate_noise, estimate_noise_absolute, predict_laplacian_iterations,
+    CORRELATION_STRIDE, MAX_AUTO_ITERATIONS, WHITE_NOISE_RATIO, auto_laplacian_iterations,
+    estimate_noise, estimate_noise_absolute, estimate_noise_correlation,
+    predict_laplacian_iterations,
 };
 pub use opc_mesh::{DepthOptions, Intrinsics, OpcError, OrganizedPointCloud};
 pub use pipeline::{

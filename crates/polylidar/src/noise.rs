@@ -88,6 +88,70 @@ pub fn predict_laplacian_iterations(noise: f64) -> u32 {
     predicted.round().min(max) as u32
 }
 
+/// [`estimate_noise`] of the cloud taken at every [`CORRELATION_STRIDE`]-th row and
+/// column, over [`estimate_noise`] of the cloud itself: how the relative noise changes
+/// when the neighbourhoods span three times the pixel spacing.
+///
+/// Noise that is independent from point to point shrinks relative to the wider spacing
+/// (on the synthetic range-scanner suite, whose noise is drawn per point, the ratio is
+/// about [`WHITE_NOISE_RATIO`]); noise that is correlated over several pixels (surface
+/// ripples of a few centimetres' wavelength, as in the real SynPEB frames: pc_01 ≈ 1.0,
+/// pc_02 ≈ 1.55) does not shrink, and a few Laplacian passes, each averaging over a
+/// k × k kernel, do not remove it. `None` when either estimate is missing or zero.
+///
+/// ```
+/// use polylidar::{OrganizedPointCloud, estimate_noise_correlation};
+///
+/// // Ripples 12 pixels long: correlated noise.
+/// let points: Vec<[f64; 3]> = (0..3600)
+///     .map(|i| {
+///         let (r, c) = ((i / 60) as f64, (i % 60) as f64);
+///         [c * 0.01, r * 0.01, 0.002 * (c * std::f64::consts::TAU / 12.0).sin()]
+///     })
+///     .collect();
+/// let cloud = OrganizedPointCloud::new(60, 60, points)?;
+/// assert!(estimate_noise_correlation(&cloud).unwrap() > 1.0);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn estimate_noise_correlation(cloud: &OrganizedPointCloud) -> Option<f64> {
+    let fine = estimate_noise(cloud)?;
+    let coarse = estimate_noise(&cloud.downsample(CORRELATION_STRIDE).ok()?)?;
+    let ratio = coarse / fine;
+    (ratio.is_finite() && ratio > 0.0).then_some(ratio)
+}
+
+/// The stride of the coarse estimate of [`estimate_noise_correlation`].
+pub const CORRELATION_STRIDE: usize = 3;
+
+/// [`estimate_noise_correlation`] of clouds whose noise is independent per point,
+/// measured on the synthetic range-scanner suite (`synthscan::synpeb_like` with 20 mm of
+/// radial noise: 0.69–0.71); below it the correlation does not change the count.
+pub const WHITE_NOISE_RATIO: f64 = 0.7;
+
+/// The Laplacian passes `iterations = "auto"` runs on `cloud`:
+/// [`predict_laplacian_iterations`] of its [`estimate_noise`], scaled by
+/// `(ratio / WHITE_NOISE_RATIO)²` for its [`estimate_noise_correlation`] `ratio` when
+/// that is above [`WHITE_NOISE_RATIO`], and clamped to [`MAX_AUTO_ITERATIONS`].
+///
+/// The linear model was trained on noise drawn per point; correlated noise has longer
+/// wavelengths, and diffusion by repeated averaging needs a number of passes that grows
+/// with the square of the wavelength to flatten them. Without this, the model chose 1–2
+/// passes for the real SynPEB frames (whose planes then came out empty or shattered)
+/// where 4–8 find them.
+pub fn auto_laplacian_iterations(cloud: &OrganizedPointCloud) -> u32 {
+    let Some(noise) = estimate_noise(cloud) else {
+        return 0;
+    };
+    let base = MODEL_INTERCEPT + MODEL_SLOPE * noise;
+    let factor = estimate_noise_correlation(cloud)
+        .map_or(1.0, |ratio| (ratio / WHITE_NOISE_RATIO).max(1.0).powi(2));
+    let predicted = base * factor;
+    if !predicted.is_finite() || predicted <= 0.0 {
+        return 0;
+    }
+    predicted.round().min(f64::from(MAX_AUTO_ITERATIONS)) as u32
+}
+
 /// The eigenvalues λ₀ ≤ λ₁ ≤ λ₂ of one neighbourhood's covariance.
 #[derive(Clone, Copy)]
 struct Fit {

@@ -37,8 +37,9 @@ impl Polylidar {
                     let result = timings.time("laplacian", || {
                         let iterations = match l.iterations {
                             LaplacianIterations::Fixed(n) => n,
-                            LaplacianIterations::Auto => crate::noise::estimate_noise(cloud)
-                                .map_or(0, crate::noise::predict_laplacian_iterations),
+                            LaplacianIterations::Auto => {
+                                crate::noise::auto_laplacian_iterations(cloud)
+                            }
                         };
                         if iterations == 0 {
                             return Ok((0, None));

@@ -1,8 +1,9 @@
 //! The point-noise estimator and `laplacian.iterations = "auto"`.
 
 use polylidar::{
-    Config, LaplacianConfig, LaplacianIterations, OrganizedPointCloud, Polylidar, estimate_noise,
-    estimate_noise_absolute, predict_laplacian_iterations,
+    Config, LaplacianConfig, LaplacianIterations, OrganizedPointCloud, Polylidar,
+    auto_laplacian_iterations, estimate_noise, estimate_noise_absolute, estimate_noise_correlation,
+    predict_laplacian_iterations,
 };
 use synthscan::{Noise, PinholeCamera, Pose, RoomConfig, Scene};
 
@@ -157,7 +158,7 @@ fn auto_run_records_its_iterations_and_matches_the_fixed_run() {
         .expect("config")
         .extract_organized(&cloud)
         .expect("extraction");
-    let expected = predict_laplacian_iterations(estimate_noise(&cloud).expect("estimate"));
+    let expected = auto_laplacian_iterations(&cloud);
     let chosen = auto.diagnostics.counts.laplacian_iterations;
     assert_eq!(chosen, expected);
     assert!(auto.diagnostics.timings.get("laplacian").is_some());
@@ -177,4 +178,38 @@ fn auto_run_records_its_iterations_and_matches_the_fixed_run() {
         .extract_organized(&cloud)
         .expect("extraction");
     assert_eq!(none.diagnostics.counts.laplacian_iterations, 0);
+}
+
+/// Noise correlated over several pixels gets more passes than noise of the same
+/// fine-scale size drawn per point: the fine estimate alone cannot tell them apart.
+#[test]
+fn correlated_noise_gets_more_passes() {
+    let n = 120;
+    let cloud = |z: &dyn Fn(usize, usize) -> f64| {
+        let points = (0..n * n)
+            .map(|i| {
+                let (r, c) = (i / n, i % n);
+                [c as f64 * 0.01, r as f64 * 0.01, z(r, c)]
+            })
+            .collect();
+        OrganizedPointCloud::new(n, n, points).expect("cloud")
+    };
+    // Independent per point: a hash of the pixel in [-1, 1].
+    let hash = |r: usize, c: usize| {
+        let h = (r as u64 * 73_856_093) ^ (c as u64 * 19_349_663);
+        ((h.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 40) as f64 / (1u64 << 24) as f64) * 2.0 - 1.0
+    };
+    let white = cloud(&|r, c| 0.003 * hash(r, c));
+    let ripples = cloud(&|r, c| {
+        let t = std::f64::consts::TAU;
+        0.004 * ((c as f64 * t / 9.0).sin() + (r as f64 * t / 11.0).cos())
+    });
+    let (w, rip) = (
+        estimate_noise_correlation(&white).expect("white"),
+        estimate_noise_correlation(&ripples).expect("ripples"),
+    );
+    assert!(w < 0.7 && rip > 1.0, "white {w}, ripples {rip}");
+    let base = |c: &OrganizedPointCloud| predict_laplacian_iterations(estimate_noise(c).unwrap());
+    assert_eq!(auto_laplacian_iterations(&white), base(&white));
+    assert!(auto_laplacian_iterations(&ripples) > base(&ripples));
 }
