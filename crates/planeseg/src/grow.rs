@@ -221,10 +221,12 @@ fn grow_all(
         counts.absorbed = refined.absorbed;
         counts.free_planes = refined.free_planes;
         counts.merged = refined.merged;
+        let labels = &refined.labels;
         results = refined
             .segments
             .into_par_iter()
-            .map(|(g, triangles)| grower.refined_polygon(g, triangles))
+            .enumerate()
+            .map(|(s, (g, triangles))| grower.refined_polygon(g, triangles, labels, s as u32))
             .collect();
     }
     let key = |r: &Result<PlanarSegment, (u32, u32, SegmentError)>| match r {
@@ -350,23 +352,23 @@ impl Grower<'_> {
     }
 
     /// The polygon of a refined segment (group `g`, or `NO_GROUP` for a plane no
-    /// dominant normal explains): its boundary half-edges, geometric plane and polygon.
+    /// dominant normal explains; `label` in the per-triangle `labels`): its boundary
+    /// half-edges, geometric plane and polygon.
     fn refined_polygon(
         &self,
         g: u32,
         triangles: Vec<u32>,
+        labels: &[u32],
+        label: u32,
     ) -> Result<PlanarSegment, (u32, u32, SegmentError)> {
         let seed = triangles.iter().min().copied().unwrap_or(0);
-        let mut members = triangles.clone();
-        members.sort_unstable();
-        let is_member = |t: u32| members.binary_search(&t).is_ok();
         let twins = self.mesh.halfedges();
         let boundary: Vec<u32> = triangles
             .iter()
             .flat_map(|&t| 3 * t..3 * t + 3)
             .filter(|&h| match twins[h as usize] {
                 NO_TWIN => true,
-                twin => !is_member(twin / 3),
+                twin => labels[(twin / 3) as usize] != label,
             })
             .collect();
         let (normal, centroid) = geometric_plane(self.mesh, &triangles);

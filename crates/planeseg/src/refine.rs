@@ -156,6 +156,8 @@ impl PlaneSums {
 /// (the dominant normal's index, or [`NO_GROUP`] for a plane grown from free triangles).
 pub(crate) struct Refined {
     pub segments: Vec<(u32, Vec<u32>)>,
+    /// Per triangle, the index of its segment in `segments`, or `NONE`.
+    pub labels: Vec<u32>,
     /// Free triangles absorbed into a segment.
     pub absorbed: usize,
     /// Segments grown from free triangles.
@@ -236,6 +238,7 @@ pub(crate) fn refine(
     let Some(normals) = mesh.triangle_normals() else {
         return Refined {
             segments: grown,
+            labels: Vec::new(),
             absorbed: 0,
             free_planes: 0,
             merged: 0,
@@ -266,15 +269,23 @@ pub(crate) fn refine(
             labels[t as usize] = s as u32;
         }
     }
-    let planes = fitted(&m, &segments);
-    let mut absorbed = absorb(&m, &mut labels, &mut segments, &planes, 0);
+    let mut sums: Vec<PlaneSums> = {
+        use rayon::prelude::*;
+        segments.par_iter().map(|(_, t)| m.sums(t)).collect()
+    };
+    let mut absorbed = absorb(&m, &mut labels, &mut segments, &mut sums, 0);
     let first_new = segments.len();
-    grow_free(&m, &mut labels, &mut segments, config.min_triangles.max(1));
+    grow_free(
+        &m,
+        &mut labels,
+        &mut segments,
+        &mut sums,
+        config.min_triangles.max(1),
+    );
     let free_planes = segments.len() - first_new;
-    let planes = fitted(&m, &segments);
-    absorbed += absorb(&m, &mut labels, &mut segments, &planes, first_new);
+    absorbed += absorb(&m, &mut labels, &mut segments, &mut sums, first_new);
     let before = segments.len();
-    let segments = merge(&m, &labels, segments);
+    let segments = merge(&m, &labels, segments, sums);
     let merged = before - segments.len();
     for (s, (_, triangles)) in segments.iter().enumerate() {
         for &t in triangles {
@@ -282,60 +293,75 @@ pub(crate) fn refine(
         }
     }
     let min = config.min_triangles.max(1);
+    let inside = interior(&m, &labels, segments.len());
+    let kept: Vec<bool> = segments
+        .iter()
+        .zip(&inside)
+        .map(|((_, tris), &inside)| {
+            tris.len() >= min && inside as f64 >= MIN_INTERIOR_SHARE * tris.len() as f64
+        })
+        .collect();
+    let mut kept_segments = Vec::new();
+    for ((_, tris), (segment, keep)) in segments.iter().zip(segments.iter().zip(&kept)) {
+        let label = if *keep {
+            kept_segments.len() as u32
+        } else {
+            NONE
+        };
+        for &t in tris {
+            labels[t as usize] = label;
+        }
+        if *keep {
+            kept_segments.push(segment.clone());
+        }
+    }
     Refined {
-        segments: segments
-            .into_iter()
-            .enumerate()
-            .filter(|(s, (_, tris))| {
-                tris.len() >= min
-                    && interior(&m, &labels, *s as u32, tris) as f64
-                        >= MIN_INTERIOR_SHARE * tris.len() as f64
-            })
-            .map(|(_, segment)| segment)
-            .collect(),
+        segments: kept_segments,
+        labels,
         absorbed,
         free_planes,
         merged,
     }
 }
 
-/// How many of `triangles` (segment `s`) have all three neighbours in the segment.
-fn interior(m: &Mesh<'_>, labels: &[u32], s: u32, triangles: &[u32]) -> usize {
-    triangles
-        .iter()
-        .filter(|&&t| {
-            m.neighbours(t)
+/// Per segment (`count` of them, as `labels` give them), how many of its triangles have
+/// all three neighbours in it; one pass over the triangles in order.
+fn interior(m: &Mesh<'_>, labels: &[u32], count: usize) -> Vec<usize> {
+    let mut inside = vec![0usize; count];
+    for (t, &s) in labels.iter().enumerate() {
+        if s != NONE
+            && m.neighbours(t as u32)
                 .iter()
                 .all(|&u| u != NONE && labels[u as usize] == s)
-        })
-        .count()
-}
-
-/// Each segment's plane.
-fn fitted(m: &Mesh<'_>, segments: &[(u32, Vec<u32>)]) -> Vec<Option<Plane>> {
-    segments
-        .iter()
-        .map(|(_, tris)| m.sums(tris).plane())
-        .collect()
+        {
+            inside[s as usize] += 1;
+        }
+    }
+    inside
 }
 
 /// Breadth-first absorption of free usable triangles into the segments from
-/// `segments[from..]`, each against its plane in `planes`; returns how many joined.
+/// `segments[from..]`, each against its plane as `sums` give it when the pass starts;
+/// the absorbed triangles are added to `sums`. Returns how many joined.
 fn absorb(
     m: &Mesh<'_>,
     labels: &mut [u32],
     segments: &mut [(u32, Vec<u32>)],
-    planes: &[Option<Plane>],
+    sums: &mut [PlaneSums],
     from: usize,
 ) -> usize {
+    let planes: Vec<Option<Plane>> = sums.iter().map(PlaneSums::plane).collect();
     let mut absorbed = 0;
-    let mut queue: Vec<u32> = segments[from..]
-        .iter()
-        .flat_map(|(_, tris)| tris.iter().copied())
+    // In triangle order (a sequential pass), not segment by segment.
+    let from = from as u32;
+    let mut queue: Vec<u32> = (0..labels.len() as u32)
         .filter(|&t| {
-            m.neighbours(t)
-                .iter()
-                .any(|&u| u != NONE && labels[u as usize] == NONE)
+            let s = labels[t as usize];
+            s != NONE
+                && s >= from
+                && m.neighbours(t)
+                    .iter()
+                    .any(|&u| u != NONE && labels[u as usize] == NONE)
         })
         .collect();
     let mut next = 0;
@@ -353,6 +379,7 @@ fn absorb(
             if m.usable(u) && m.fits(u, &plane) {
                 labels[u as usize] = s;
                 segments[s as usize].1.push(u);
+                sums[s as usize].add_triangle(m.corners(u));
                 queue.push(u);
                 absorbed += 1;
             }
@@ -367,6 +394,7 @@ fn grow_free(
     m: &Mesh<'_>,
     labels: &mut [u32],
     segments: &mut Vec<(u32, Vec<u32>)>,
+    all_sums: &mut Vec<PlaneSums>,
     min_triangles: usize,
 ) {
     // Triangles a rejected region visited; they may still be absorbed, but seed no more.
@@ -411,6 +439,7 @@ fn grow_free(
         }
         if region.len() >= min_triangles {
             segments.push((NO_GROUP, region.clone()));
+            all_sums.push(sums);
         } else {
             for &t in &region {
                 labels[t as usize] = VISITED;
@@ -425,7 +454,12 @@ fn grow_free(
 }
 
 /// Merges segments that share an edge and fit one plane (see the module docs).
-fn merge(m: &Mesh<'_>, labels: &[u32], segments: Vec<(u32, Vec<u32>)>) -> Vec<(u32, Vec<u32>)> {
+fn merge(
+    m: &Mesh<'_>,
+    labels: &[u32],
+    segments: Vec<(u32, Vec<u32>)>,
+    mut sums: Vec<PlaneSums>,
+) -> Vec<(u32, Vec<u32>)> {
     let mut pairs: Vec<(u32, u32)> = Vec::new();
     for (t, &a) in labels.iter().enumerate() {
         if a == NONE {
@@ -451,7 +485,6 @@ fn merge(m: &Mesh<'_>, labels: &[u32], segments: Vec<(u32, Vec<u32>)>) -> Vec<(u
     // Longest shared boundaries first.
     counted.sort_unstable_by_key(|&(count, a, b)| (std::cmp::Reverse(count), a, b));
 
-    let mut sums: Vec<PlaneSums> = segments.iter().map(|(_, tris)| m.sums(tris)).collect();
     let mut parent: Vec<u32> = (0..segments.len() as u32).collect();
     let find = |parent: &mut [u32], mut x: u32| {
         while parent[x as usize] != x {
