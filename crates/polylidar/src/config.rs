@@ -475,11 +475,13 @@ impl Config {
     ///   k 3, σ 0.1 / 0.1, 2 it; FastGA level 5, v_min 3, d_peak 0.1, weight 0.01, 12 % of
     ///   at least 10,000 normals; lmax 0.1, min_triangles 1000, z 0.07, norm 0.95, hole
     ///   vertices 50; no post-processing.
-    /// * `synpeb-auto` (Table 9: "iterations = varies (predicted)"): `synpeb` with
-    ///   Laplacian iterations `auto`, predicted per cloud from its noise by the model
-    ///   trained on SynPEB-like synthetic frames (see
-    ///   [`crate::predict_laplacian_iterations`]); that model under-smooths the real SynPEB
-    ///   frames (1–2 passes), so `synpeb` keeps the fixed 8.
+    /// * `synpeb-auto`: the detector that adapts to the data, for range scanners and depth
+    ///   cameras alike (measured on both synthetic suites and the real SynPEB frames in
+    ///   `cargo xtask bench`, Tables 10 and 10b): `synpeb` with Laplacian iterations `auto`
+    ///   (Table 9: "iterations = varies (predicted)"; predicted per cloud from its noise and
+    ///   the noise's correlation, see [`crate::auto_laplacian_iterations`]), refinement on
+    ///   ([`Config::refine`]: absorption, planes without a dominant normal, merging, one
+    ///   plane id for disjoint pieces) and `min_triangles` 250.
     /// * `rooftop` (Table 3): Laplacian λ 1, 2 it; bilateral σ 0.1 / 0.1, 2 it; normal =
     ///   `up`; min_triangles 200, norm 0.94, lmax 0.9, hole vertices 8, z 0.2; post α 0.1,
     ///   β_neg 0.1, β_pos 0, γ 16, δ 0.5.
