@@ -16,6 +16,11 @@ pub struct SegmentationConfig {
     pub z_thresh: f64,
     /// Keep segments of at least this many triangles. Default 20.
     pub min_triangles: usize,
+    /// With [`Self::refine`]: also keep a segment of fewer than `min_triangles`
+    /// triangles when its area reaches this (square length unit), so that a large plane
+    /// far from the sensor, sampled by few pixels, is not lost; `0` (the default) keeps
+    /// by count only.
+    pub min_area: f64,
     /// Keep holes of at least this many vertices. Default 3.
     pub min_hole_vertices: usize,
     /// Refine the grown segments before their polygons are extracted: absorb the
@@ -32,6 +37,7 @@ impl Default for SegmentationConfig {
             norm_thresh: 0.95,
             z_thresh: 0.0,
             min_triangles: 20,
+            min_area: 0.0,
             min_hole_vertices: 3,
             refine: false,
         }
@@ -65,6 +71,12 @@ impl SegmentationConfig {
     /// Sets [`Self::min_triangles`].
     pub fn with_min_triangles(mut self, min_triangles: usize) -> Self {
         self.min_triangles = min_triangles;
+        self
+    }
+
+    /// Sets [`Self::min_area`].
+    pub fn with_min_area(mut self, min_area: f64) -> Self {
+        self.min_area = min_area;
         self
     }
 
@@ -104,6 +116,9 @@ impl SegmentationConfig {
         }
         if !(self.z_thresh.is_finite() && self.z_thresh >= 0.0) {
             return bad("z_thresh", self.z_thresh, "must be a finite length ≥ 0");
+        }
+        if !(self.min_area.is_finite() && self.min_area >= 0.0) {
+            return bad("min_area", self.min_area, "must be a finite area ≥ 0");
         }
         Ok(())
     }

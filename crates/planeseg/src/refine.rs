@@ -131,6 +131,11 @@ impl PlaneSums {
         })
     }
 
+    /// The triangles' total area.
+    fn area(&self) -> f64 {
+        self.weight / 2.0
+    }
+
     /// Root mean square distance of the triangle centroids to `plane`.
     fn rms(&self, plane: &Plane) -> f64 {
         if self.weight <= 0.0 {
@@ -229,7 +234,7 @@ impl Mesh<'_> {
 
 /// Refines the segments grown by dominant normal (`grown`: group and triangles, each of
 /// at least `min_triangles`): absorption, free-plane growth, merging (see the module
-/// docs). Segments below `min_triangles` afterwards are dropped.
+/// docs). Segments below `min_triangles` and `min_area` afterwards are dropped.
 pub(crate) fn refine(
     mesh: &HalfEdgeMesh,
     grown: Vec<(u32, Vec<u32>)>,
@@ -275,30 +280,28 @@ pub(crate) fn refine(
     };
     let mut absorbed = absorb(&m, &mut labels, &mut segments, &mut sums, 0);
     let first_new = segments.len();
-    grow_free(
-        &m,
-        &mut labels,
-        &mut segments,
-        &mut sums,
-        config.min_triangles.max(1),
-    );
+    let big_enough = |triangles: usize, sums: &PlaneSums| {
+        triangles >= config.min_triangles.max(1)
+            || (config.min_area > 0.0 && triangles >= 3 && sums.area() >= config.min_area)
+    };
+    grow_free(&m, &mut labels, &mut segments, &mut sums, &big_enough);
     let free_planes = segments.len() - first_new;
     absorbed += absorb(&m, &mut labels, &mut segments, &mut sums, first_new);
     let before = segments.len();
-    let segments = merge(&m, &labels, segments, sums);
+    let (segments, sums) = merge(&m, &labels, segments, sums);
     let merged = before - segments.len();
     for (s, (_, triangles)) in segments.iter().enumerate() {
         for &t in triangles {
             labels[t as usize] = s as u32;
         }
     }
-    let min = config.min_triangles.max(1);
     let inside = interior(&m, &labels, segments.len());
     let kept: Vec<bool> = segments
         .iter()
         .zip(&inside)
-        .map(|((_, tris), &inside)| {
-            tris.len() >= min && inside as f64 >= MIN_INTERIOR_SHARE * tris.len() as f64
+        .zip(&sums)
+        .map(|(((_, tris), &inside), sums)| {
+            big_enough(tris.len(), sums) && inside as f64 >= MIN_INTERIOR_SHARE * tris.len() as f64
         })
         .collect();
     let mut kept_segments = Vec::new();
@@ -388,14 +391,15 @@ fn absorb(
     absorbed
 }
 
-/// Grows the free usable triangles into new segments by their running plane; regions of
-/// at least `min_triangles` are appended to `segments` (group [`NO_GROUP`]).
+/// Grows the free usable triangles into new segments by their running plane; regions that
+/// are `big_enough` are appended to `segments` (group [`NO_GROUP`]) and their sums to
+/// `all_sums`.
 fn grow_free(
     m: &Mesh<'_>,
     labels: &mut [u32],
     segments: &mut Vec<(u32, Vec<u32>)>,
     all_sums: &mut Vec<PlaneSums>,
-    min_triangles: usize,
+    big_enough: &impl Fn(usize, &PlaneSums) -> bool,
 ) {
     // Triangles a rejected region visited; they may still be absorbed, but seed no more.
     const VISITED: u32 = NONE - 1;
@@ -437,7 +441,7 @@ fn grow_free(
                 region.push(u);
             }
         }
-        if region.len() >= min_triangles {
+        if big_enough(region.len(), &sums) {
             segments.push((NO_GROUP, region.clone()));
             all_sums.push(sums);
         } else {
@@ -459,7 +463,7 @@ fn merge(
     labels: &[u32],
     segments: Vec<(u32, Vec<u32>)>,
     mut sums: Vec<PlaneSums>,
-) -> Vec<(u32, Vec<u32>)> {
+) -> (Vec<(u32, Vec<u32>)>, Vec<PlaneSums>) {
     let mut pairs: Vec<(u32, u32)> = Vec::new();
     for (t, &a) in labels.iter().enumerate() {
         if a == NONE {
@@ -526,7 +530,13 @@ fn merge(
             }
         }
     }
-    out.into_iter().flatten().collect()
+    let kept_sums = out
+        .iter()
+        .zip(sums)
+        .filter(|(segment, _)| segment.is_some())
+        .map(|(_, sums)| sums)
+        .collect();
+    (out.into_iter().flatten().collect(), kept_sums)
 }
 
 /// Cosine between the normals of two segments that no edge connects for them to be taken

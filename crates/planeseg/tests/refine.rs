@@ -184,3 +184,46 @@ fn refinement_does_not_depend_on_the_thread_count() {
     assert!(!one.segments.is_empty());
     assert_eq!(one, run(3));
 }
+
+/// Two flat `n × n` grids side by side, z = 0: one of `coarse` cells, one of `fine` cells,
+/// far apart.
+fn two_grids(n: usize, coarse: f64, fine: f64) -> HalfEdgeMesh {
+    let mut vertices = Vec::new();
+    let mut triangles = Vec::new();
+    for (cell, x0) in [(coarse, 0.0), (fine, 1000.0)] {
+        let first = vertices.len() as u32;
+        for i in 0..(n + 1) * (n + 1) {
+            let (x, y) = ((i % (n + 1)) as f64, (i / (n + 1)) as f64);
+            vertices.push([x0 + x * cell, y * cell, 0.0]);
+        }
+        let id = |x: usize, y: usize| first + (y * (n + 1) + x) as u32;
+        for cellid in 0..n * n {
+            let (x, y) = (cellid % n, cellid / n);
+            triangles.push([id(x, y), id(x + 1, y), id(x + 1, y + 1)]);
+            triangles.push([id(x, y), id(x + 1, y + 1), id(x, y + 1)]);
+        }
+    }
+    let mut mesh = HalfEdgeMesh::from_triangles(vertices, triangles).unwrap();
+    mesh.compute_triangle_normals();
+    mesh
+}
+
+#[test]
+fn a_far_plane_with_few_triangles_but_a_large_area_is_kept() {
+    // 6 × 6 cells each: 72 triangles, below min_triangles 100; the coarse grid covers
+    // 144 square units (a far wall seen by few pixels), the fine one 0.36.
+    let mesh = two_grids(6, 2.0, 0.1);
+    let per_grid = mesh.num_triangles() / 2;
+    let config = config(true).with_min_triangles(100);
+    let by_count = segment(&mesh, &[UP], &config).unwrap();
+    assert!(by_count.segments.is_empty());
+
+    let by_area = segment(&mesh, &[UP], &config.with_min_area(5.0)).unwrap();
+    assert_eq!(by_area.segments.len(), 1);
+    let expected: Vec<u32> = (0..per_grid as u32).collect();
+    assert_eq!(sorted(&by_area.segments[0]), expected);
+
+    // Without refinement min_area does not apply (the paper's Alg. 5).
+    let paper = segment(&mesh, &[UP], &config.with_refine(false).with_min_area(5.0)).unwrap();
+    assert!(paper.segments.is_empty());
+}

@@ -180,6 +180,11 @@ pub struct ParamArgs {
     /// Drop regions with fewer triangles than this. Default: the preset's, else 20.
     #[arg(long, help_heading = "Parameters (override the preset and --config)")]
     pub min_triangles: Option<usize>,
+    /// 3D with refinement (synpeb-auto): keep a region with fewer triangles than
+    /// `--min-triangles` when its area reaches this (square input units): far planes.
+    /// Default: the preset's, else 0 (off).
+    #[arg(long, help_heading = "Parameters (override the preset and --config)")]
+    pub min_area: Option<f64>,
     /// Drop holes with fewer vertices than this. Default: the preset's, else 3.
     #[arg(long, help_heading = "Parameters (override the preset and --config)")]
     pub min_hole_vertices: Option<usize>,

@@ -244,6 +244,7 @@ fn apply_flags(config: &mut Config, flags: &ParamArgs) -> Result<(), CliError> {
         alpha,
         lmax,
         min_triangles,
+        min_area,
         min_hole_vertices,
         norm_thresh,
         z_thresh,
@@ -259,6 +260,9 @@ fn apply_flags(config: &mut Config, flags: &ParamArgs) -> Result<(), CliError> {
     }
     if let Some(v) = min_triangles {
         config.min_triangles = *v;
+    }
+    if let Some(v) = min_area {
+        config.min_area = *v;
     }
     if let Some(v) = min_hole_vertices {
         config.min_hole_vertices = *v;

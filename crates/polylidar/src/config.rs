@@ -31,6 +31,10 @@ pub struct Config {
     pub lmax: f64,
     /// Drop regions (and so polygons) made of fewer triangles than this.
     pub min_triangles: usize,
+    /// 3D with [`Config::refine`]: keep a region of fewer than `min_triangles` triangles
+    /// when its area reaches this (square length unit): a large plane far from the
+    /// sensor, seen by few pixels. `0` keeps by count only.
+    pub min_area: f64,
     /// Drop holes with fewer vertices than this (the hole is filled).
     pub min_hole_vertices: usize,
     /// 2.5D only: keep a triangle only if the cosine between its normal and `up` is at
@@ -361,6 +365,7 @@ impl Default for Config {
             alpha: 0.0,
             lmax: 0.0,
             min_triangles: 20,
+            min_area: 0.0,
             min_hole_vertices: 3,
             norm_thresh: 0.9,
             up: [0.0, 0.0, 1.0],
@@ -383,6 +388,7 @@ impl Config {
             .with_norm_thresh(self.norm_thresh)
             .with_z_thresh(self.z_thresh)
             .with_min_triangles(self.min_triangles)
+            .with_min_area(self.min_area)
             .with_min_hole_vertices(self.min_hole_vertices)
             .with_refine(self.refine)
     }
@@ -481,7 +487,9 @@ impl Config {
     ///   (Table 9: "iterations = varies (predicted)"; predicted per cloud from its noise and
     ///   the noise's correlation, see [`crate::auto_laplacian_iterations`]), refinement on
     ///   ([`Config::refine`]: absorption, planes without a dominant normal, merging, one
-    ///   plane id for disjoint pieces) and `min_triangles` 250.
+    ///   plane id for disjoint pieces), `min_triangles` 250 and `min_area` 0.015 m² (a
+    ///   region with fewer triangles is kept when it is that large: far planes, and
+    ///   lower resolutions).
     /// * `rooftop` (Table 3): Laplacian λ 1, 2 it; bilateral σ 0.1 / 0.1, 2 it; normal =
     ///   `up`; min_triangles 200, norm 0.94, lmax 0.9, hole vertices 8, z 0.2; post α 0.1,
     ///   β_neg 0.1, β_pos 0, γ 16, δ 0.5.
@@ -541,6 +549,7 @@ impl Config {
                 },
                 lmax: 0.1,
                 min_triangles: if name == "synpeb-auto" { 250 } else { 1000 },
+                min_area: if name == "synpeb-auto" { 0.015 } else { 0.0 },
                 z_thresh: 0.07,
                 norm_thresh: 0.95,
                 min_hole_vertices: 50,
@@ -614,6 +623,13 @@ impl Config {
                 "norm_thresh",
                 self.norm_thresh.to_string(),
                 "must be a cosine in [-1, 1]",
+            );
+        }
+        if !(self.min_area.is_finite() && self.min_area >= 0.0) {
+            return bad(
+                "min_area",
+                self.min_area.to_string(),
+                "must be a finite area ≥ 0",
             );
         }
         if !(self.z_thresh.is_finite() && self.z_thresh >= 0.0) {

@@ -120,6 +120,7 @@ pub fn convert_lengths(config: &Config, factor: f64) -> Config {
     out.alpha *= factor;
     out.lmax *= factor;
     out.z_thresh *= factor;
+    out.min_area *= factor * factor;
     if let Some(bilateral) = &mut out.bilateral {
         bilateral.sigma_length = (f64::from(bilateral.sigma_length) * factor) as f32;
     }
