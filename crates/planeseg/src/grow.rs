@@ -221,12 +221,14 @@ fn grow_all(
         counts.absorbed = refined.absorbed;
         counts.free_planes = refined.free_planes;
         counts.merged = refined.merged;
-        let labels = &refined.labels;
+        let (labels, planes) = (&refined.labels, &refined.planes);
         results = refined
             .segments
             .into_par_iter()
             .enumerate()
-            .map(|(s, (g, triangles))| grower.refined_polygon(g, triangles, labels, s as u32))
+            .map(|(s, (g, triangles))| {
+                grower.refined_polygon(g, triangles, planes[s], (labels, s as u32))
+            })
             .collect();
     }
     let key = |r: &Result<PlanarSegment, (u32, u32, SegmentError)>| match r {
@@ -352,14 +354,14 @@ impl Grower<'_> {
     }
 
     /// The polygon of a refined segment (group `g`, or `NO_GROUP` for a plane no
-    /// dominant normal explains; `label` in the per-triangle `labels`): its boundary
-    /// half-edges, geometric plane and polygon.
+    /// dominant normal explains; its plane as refinement fitted it; `label` in the
+    /// per-triangle `labels`): its boundary half-edges and polygon.
     fn refined_polygon(
         &self,
         g: u32,
         triangles: Vec<u32>,
-        labels: &[u32],
-        label: u32,
+        (normal, centroid): ([f64; 3], [f64; 3]),
+        (labels, label): (&[u32], u32),
     ) -> Result<PlanarSegment, (u32, u32, SegmentError)> {
         let seed = triangles.iter().min().copied().unwrap_or(0);
         let twins = self.mesh.halfedges();
@@ -371,7 +373,6 @@ impl Grower<'_> {
                 twin => labels[(twin / 3) as usize] != label,
             })
             .collect();
-        let (normal, centroid) = geometric_plane(self.mesh, &triangles);
         let region = Region {
             triangles,
             boundary,

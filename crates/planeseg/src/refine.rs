@@ -161,6 +161,8 @@ impl PlaneSums {
 /// (the dominant normal's index, or [`NO_GROUP`] for a plane grown from free triangles).
 pub(crate) struct Refined {
     pub segments: Vec<(u32, Vec<u32>)>,
+    /// Per segment, its plane's unit normal and area-weighted centroid.
+    pub planes: Vec<([f64; 3], [f64; 3])>,
     /// Per triangle, the index of its segment in `segments`, or `NONE`.
     pub labels: Vec<u32>,
     /// Free triangles absorbed into a segment.
@@ -242,6 +244,10 @@ pub(crate) fn refine(
 ) -> Refined {
     let Some(normals) = mesh.triangle_normals() else {
         return Refined {
+            planes: grown
+                .iter()
+                .map(|(_, tris)| crate::geometric_plane(mesh, tris))
+                .collect(),
             segments: grown,
             labels: Vec::new(),
             absorbed: 0,
@@ -288,13 +294,8 @@ pub(crate) fn refine(
     let free_planes = segments.len() - first_new;
     absorbed += absorb(&m, &mut labels, &mut segments, &mut sums, first_new);
     let before = segments.len();
-    let (segments, sums) = merge(&m, &labels, segments, sums);
+    let (segments, sums) = merge(&m, &mut labels, segments, sums);
     let merged = before - segments.len();
-    for (s, (_, triangles)) in segments.iter().enumerate() {
-        for &t in triangles {
-            labels[t as usize] = s as u32;
-        }
-    }
     let inside = interior(&m, &labels, segments.len());
     let kept: Vec<bool> = segments
         .iter()
@@ -304,22 +305,23 @@ pub(crate) fn refine(
             big_enough(tris.len(), sums) && inside as f64 >= MIN_INTERIOR_SHARE * tris.len() as f64
         })
         .collect();
+    let mut index = vec![NONE; segments.len()];
     let mut kept_segments = Vec::new();
-    for ((_, tris), (segment, keep)) in segments.iter().zip(segments.iter().zip(&kept)) {
-        let label = if *keep {
-            kept_segments.len() as u32
-        } else {
-            NONE
-        };
-        for &t in tris {
-            labels[t as usize] = label;
-        }
+    let mut planes = Vec::new();
+    for (s, ((segment, keep), sums)) in segments.into_iter().zip(&kept).zip(&sums).enumerate() {
         if *keep {
-            kept_segments.push(segment.clone());
+            index[s] = kept_segments.len() as u32;
+            let plane = sums
+                .plane()
+                .map_or(([0.0; 3], [0.0; 3]), |p| (p.normal, p.centroid));
+            planes.push(plane);
+            kept_segments.push(segment);
         }
     }
+    relabel(&mut labels, &index);
     Refined {
         segments: kept_segments,
+        planes,
         labels,
         absorbed,
         free_planes,
@@ -460,7 +462,7 @@ fn grow_free(
 /// Merges segments that share an edge and fit one plane (see the module docs).
 fn merge(
     m: &Mesh<'_>,
-    labels: &[u32],
+    labels: &mut [u32],
     segments: Vec<(u32, Vec<u32>)>,
     mut sums: Vec<PlaneSums>,
 ) -> (Vec<(u32, Vec<u32>)>, Vec<PlaneSums>) {
@@ -520,9 +522,16 @@ fn merge(
         sums[root as usize] = merged;
     }
     let mut out: Vec<Option<(u32, Vec<u32>)>> = segments.into_iter().map(Some).collect();
+    // Roots keep their order; every segment takes its root's new index.
+    let mut index = vec![NONE; out.len()];
+    let mut roots = 0;
     for s in 0..out.len() as u32 {
         let root = find(&mut parent, s);
-        if root != s {
+        if root == s {
+            index[s as usize] = roots;
+            roots += 1;
+        } else {
+            index[s as usize] = index[root as usize];
             if let Some((_, tris)) = out[s as usize].take() {
                 if let Some((_, into)) = out[root as usize].as_mut() {
                     into.extend(tris);
@@ -530,6 +539,7 @@ fn merge(
             }
         }
     }
+    relabel(labels, &index);
     let kept_sums = out
         .iter()
         .zip(sums)
@@ -537,6 +547,13 @@ fn merge(
         .map(|(_, sums)| sums)
         .collect();
     (out.into_iter().flatten().collect(), kept_sums)
+}
+
+/// Replaces every segment label `s` by `index[s]`, in one pass over the triangles.
+fn relabel(labels: &mut [u32], index: &[u32]) {
+    for label in labels.iter_mut().filter(|l| **l != NONE) {
+        *label = index[*label as usize];
+    }
 }
 
 /// Cosine between the normals of two segments that no edge connects for them to be taken
