@@ -45,6 +45,7 @@ pub struct Chosen {
 struct Explicit {
     alpha: bool,
     lmax: bool,
+    min_triangles: bool,
 }
 
 /// The configuration `args` asks for, with a preset's lengths in `--units` (metres when
@@ -87,10 +88,12 @@ fn layered(args: &InputArgs, unit: LengthUnit) -> Result<(Config, Explicit), Cli
         config = merged;
         explicit.alpha |= keys.iter().any(|k| k == "alpha");
         explicit.lmax |= keys.iter().any(|k| k == "lmax");
+        explicit.min_triangles |= keys.iter().any(|k| k == "min_triangles");
     }
     apply_flags(&mut config, &args.params)?;
     explicit.alpha |= args.params.alpha.is_some();
     explicit.lmax |= args.params.lmax.is_some();
+    explicit.min_triangles |= args.params.min_triangles.is_some();
     Ok((config, explicit))
 }
 
@@ -171,6 +174,20 @@ pub fn config_for(
                 }
             }
         }
+    }
+    if let (Input::Cloud(points), Some(s)) = (input, spacing)
+        && preset.is_none()
+        && !explicit.min_triangles
+        && let Some((n, area)) =
+            polylidar::scale::min_triangles_for_extent(points, config.up, s, config.min_triangles)
+        && n > config.min_triangles
+    {
+        config.min_triangles = n;
+        notes.push(format!(
+            "min_triangles {n} (regions of {} {}², 1/10,000 of the extent)",
+            significant(area),
+            unit.symbol()
+        ));
     }
     Ok(Chosen {
         config,

@@ -64,6 +64,34 @@ fn lmax_comes_from_the_spacing_when_not_given() {
 }
 
 #[test]
+fn min_triangles_comes_from_the_extent_when_not_given() {
+    // A 100 × 100 grid of spacing 1 and one point far away: the cloud spans 3000 × 3000,
+    // so the smallest region is 900 square units, 1800 triangles of half a unit.
+    let dir = scratch("extent");
+    let mut text = String::from("x,y,z\n");
+    for i in 0..100 {
+        for j in 0..100 {
+            text.push_str(&format!("{i},{j},{}\n", 0.001 * i as f64));
+        }
+    }
+    text.push_str("3000,3000,0\n");
+    let cloud = dir.join("extent.csv");
+    std::fs::write(&cloud, text).unwrap();
+    let out = json(&polylidar(&["extract", cloud.to_str().unwrap(), "--json"]));
+    assert_eq!(out["parameters"]["min_triangles"], 1800);
+    assert_eq!(out["counts"]["polygons"], 1);
+    // Given explicitly, or by a preset, it is kept.
+    let out = json(&polylidar(&[
+        "extract",
+        cloud.to_str().unwrap(),
+        "--json",
+        "--min-triangles",
+        "5",
+    ]));
+    assert_eq!(out["parameters"]["min_triangles"], 5);
+}
+
+#[test]
 fn presets_are_converted_into_the_units() {
     let dir = scratch("units");
     // Spacing 0.05: four spacings stay below rooftop's lmax in either unit.

@@ -11,6 +11,8 @@
 //!   neighbours);
 //! * [`alpha_for_spacing`] and [`lmax_for_spacing`]: the α and `lmax` that keep the
 //!   triangles of a sample of that spacing, holes and gaps of a few spacings excluded;
+//! * [`min_triangles_for_extent`]: the smallest region of a 2.5D cloud as a share of the
+//!   area it spans, in triangles of its spacing;
 //! * [`convert_lengths`]: a configuration with every length multiplied by a factor (and
 //!   every area by its square), e.g. a preset in metres for a file in feet.
 //!
@@ -64,6 +66,56 @@ pub fn alpha_for_spacing(spacing: f64) -> f64 {
 /// `spacing`: [`LMAX_PER_SPACING`] · `spacing`.
 pub fn lmax_for_spacing(spacing: f64) -> f64 {
     LMAX_PER_SPACING * spacing
+}
+
+/// [`min_triangles_for_extent`] keeps regions of at least this share of the area the
+/// cloud spans (1/10,000: about 6 m² of a 600 × 1,000 m aerial tile, a small roof).
+pub const MIN_AREA_SHARE: f64 = 1e-4;
+
+/// The smallest region, in triangles, that covers [`MIN_AREA_SHARE`] of the cloud's extent
+/// seen along `up` (its bounding rectangle in the plane orthogonal to `up`), for a sample
+/// of median nearest-neighbour distance `spacing` (a triangle of such a sample covers
+/// about `spacing² / 2`); and that area. At least `floor` triangles. `None` without a
+/// finite, positive spacing or extent.
+///
+/// ```
+/// use polylidar::scale::min_triangles_for_extent;
+/// // A 1000 × 500 grid of spacing 1: 5·10⁵ square units, 50 of them a region's minimum,
+/// // so 100 triangles of half a unit each.
+/// let points: Vec<[f64; 3]> = (0..1001 * 501)
+///     .map(|i| [(i % 1001) as f64, (i / 1001) as f64, 0.0])
+///     .collect();
+/// let (triangles, area) = min_triangles_for_extent(&points, [0.0, 0.0, 1.0], 1.0, 20).unwrap();
+/// assert_eq!(triangles, 100);
+/// assert!((area - 50.0).abs() < 1e-9);
+/// ```
+pub fn min_triangles_for_extent(
+    points: &[[f64; 3]],
+    up: [f64; 3],
+    spacing: f64,
+    floor: usize,
+) -> Option<(usize, f64)> {
+    let frame = PlaneFrame::new(up);
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for p in points.iter().filter(|p| p.iter().all(|c| c.is_finite())) {
+        let q = frame.project(*p);
+        for k in 0..2 {
+            lo[k] = lo[k].min(q[k]);
+            hi[k] = hi[k].max(q[k]);
+        }
+    }
+    let extent = (hi[0] - lo[0]) * (hi[1] - lo[1]);
+    let per_triangle = spacing * spacing / 2.0;
+    if !(extent.is_finite() && extent > 0.0 && per_triangle.is_finite() && per_triangle > 0.0) {
+        return None;
+    }
+    let area = MIN_AREA_SHARE * extent;
+    let triangles = (area / per_triangle).ceil();
+    // Bounded by the point count, so the cast is exact.
+    Some((
+        (triangles.min(points.len() as f64) as usize).max(floor),
+        area,
+    ))
 }
 
 /// The median over the points of the distance to their nearest neighbour, for a 2D point
