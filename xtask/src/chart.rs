@@ -8,7 +8,7 @@ use tiny_skia::{
 };
 
 use crate::error::{Result, msg};
-use crate::font::{HEIGHT, draw_text, text_width};
+use pixel_font::{HEIGHT, draw_text, text_width};
 
 /// One line of the chart.
 #[derive(Debug, Clone)]

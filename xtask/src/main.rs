@@ -13,7 +13,6 @@ mod bench;
 mod chart;
 mod data;
 mod error;
-mod font;
 mod machine;
 mod report;
 mod tables;

@@ -14,7 +14,6 @@
 
 mod args;
 mod evaluate;
-mod font;
 mod geojson;
 mod input;
 mod params;

@@ -15,7 +15,7 @@
 use polylidar::{Extraction, OrganizedPointCloud, PlaneFrame};
 use tiny_skia::{Color, ColorU8, FillRule, Paint, PathBuilder, Pixmap, Rect, Stroke, Transform};
 
-use crate::font;
+use pixel_font as font;
 use crate::input::Input;
 
 /// Longest side of the picture in pixels.
@@ -188,6 +188,7 @@ fn draw_legend(pixmap: &mut Pixmap, lines: &[(Swatch, String)]) {
             text,
             SCALE,
             Color::from_rgba8(30, 30, 30, 255),
+            false,
         );
     }
 }

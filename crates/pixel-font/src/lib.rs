@@ -1,5 +1,15 @@
-//! A 5 × 7 pixel font (upper-case letters, digits, a little punctuation) for chart labels,
-//! drawn as filled squares so the charts need no font files.
+//! A 5 × 7 pixel font (upper-case letters, digits, a little punctuation) for the labels
+//! and legends of pictures drawn with `tiny-skia`, as filled squares, so that a program
+//! needs no font files: `polylidar --plot` legends and `cargo xtask bench` charts.
+//!
+//! ```
+//! use tiny_skia::{Color, Pixmap};
+//!
+//! let mut pixmap = Pixmap::new(100, 20).unwrap();
+//! pixel_font::draw_text(&mut pixmap, 2.0, 2.0, "F 54.7 %", 2, Color::BLACK, false);
+//! assert_eq!(pixel_font::text_width("AB", 1), 11);
+//! assert!(pixmap.pixels().iter().any(|p| p.alpha() > 0));
+//! ```
 
 use tiny_skia::{Color, Paint, Pixmap, Rect, Transform};
 
@@ -122,3 +132,7 @@ mod tests {
         assert_eq!(text_width("AB", 2), 22);
     }
 }
+
+#[doc = include_str!("../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;
