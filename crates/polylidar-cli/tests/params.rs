@@ -2,20 +2,14 @@
 //! spacing, explanations of empty results and `--strict`, flag forms and warnings.
 #![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
 
-fn polylidar(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_polylidar"))
-        .args(args)
-        .output()
-        .expect("the binary runs")
-}
+use std::path::{Path, PathBuf};
+
+use common::{json, polylidar};
 
 fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("polylidar-params-{}-{name}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    common::scratch("params", name)
 }
 
 /// A flat `n × n` grid of 3D points `spacing` apart, with a small tilt so no three are
@@ -31,15 +25,6 @@ fn flat_cloud(dir: &Path, n: usize, spacing: f64) -> PathBuf {
     let path = dir.join(format!("cloud-{n}-{spacing}.csv"));
     std::fs::write(&path, text).unwrap();
     path
-}
-
-fn json(output: &Output) -> serde_json::Value {
-    assert!(
-        output.status.success(),
-        "{}",
-        String::from_utf8_lossy(&output.stderr)
-    );
-    serde_json::from_slice(&output.stdout).expect("stdout is one JSON object")
 }
 
 #[test]

@@ -1,0 +1,30 @@
+//! What the tests of the `polylidar` binary share: running it, a scratch folder, reading
+//! its `--json` output.
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+/// Runs the binary with `args`.
+pub fn polylidar(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_polylidar"))
+        .args(args)
+        .output()
+        .expect("the binary runs")
+}
+
+/// A fresh folder for one test's files (`tag` names the test file, `name` the test).
+pub fn scratch(tag: &str, name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("polylidar-{tag}-{}-{name}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// The one JSON object a successful run printed on stdout.
+pub fn json(output: &Output) -> serde_json::Value {
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    serde_json::from_slice(&output.stdout).expect("stdout is one JSON object")
+}
