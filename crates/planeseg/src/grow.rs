@@ -180,8 +180,12 @@ fn grow_all(
                             continue;
                         }
                         if config.refine {
-                            let triangles = region.triangles.clone();
-                            let _ = sender.send(Outcome::Region(g as u32, triangles));
+                            let grown = crate::refine::Grown {
+                                group: g as u32,
+                                triangles: region.triangles.clone(),
+                                boundary: region.boundary.clone(),
+                            };
+                            let _ = sender.send(Outcome::Region(grown));
                             continue;
                         }
                         // Copied to its size: the growing buffers stay with this task.
@@ -210,17 +214,20 @@ fn grow_all(
         match outcome {
             Outcome::Grown(n) => counts.segments_grown += n,
             Outcome::Segment(result) => results.push(result),
-            Outcome::Region(g, triangles) => regions.push((g, triangles)),
+            Outcome::Region(grown) => regions.push(grown),
         }
     }
     let kept_grown = regions.len() + results.len();
+    // Per result, the result whose plane it lies on (itself unless refinement says).
+    let mut same_plane: Vec<u32> = (0..results.len() as u32).collect();
     if config.refine {
         // Growth order depends on the threads; refinement must not.
-        regions.sort_unstable_by_key(|(g, triangles)| (*g, triangles.iter().min().copied()));
+        regions.sort_unstable_by_key(|r| (r.group, r.triangles.iter().min().copied()));
         let refined = crate::refine::refine(mesh, regions, config);
         counts.absorbed = refined.absorbed;
         counts.free_planes = refined.free_planes;
         counts.merged = refined.merged;
+        same_plane = refined.same_plane;
         let (labels, planes) = (&refined.labels, &refined.planes);
         results = refined
             .segments
@@ -235,23 +242,30 @@ fn grow_all(
         Ok(s) => (s.group, s.seed),
         Err((g, s, _)) => (*g, *s),
     };
-    results.sort_by_key(key);
-    let mut segments = Vec::with_capacity(results.len());
-    for result in results {
-        let segment = result.map_err(|(_, _, e)| e)?;
+    let mut order: Vec<usize> = (0..results.len()).collect();
+    order.sort_by_key(|&i| key(&results[i]));
+    // A plane's id is the first position, in the sorted output, of a segment on it.
+    let mut rank = vec![0u32; results.len()];
+    for (position, &i) in order.iter().enumerate() {
+        rank[i] = position as u32;
+    }
+    let mut first = vec![u32::MAX; results.len()];
+    for (i, &p) in same_plane.iter().enumerate() {
+        first[p as usize] = first[p as usize].min(rank[i]);
+    }
+    let mut slots: Vec<Option<_>> = results.into_iter().map(Some).collect();
+    let mut segments = Vec::with_capacity(slots.len());
+    for i in order {
+        let Some(result) = slots[i].take() else {
+            continue;
+        };
+        let mut segment = result.map_err(|(_, _, e)| e)?;
+        segment.plane = first[same_plane[i] as usize];
         counts.holes += segment.polygon.holes.len();
         counts.holes_too_small += segment.holes_too_small;
         segments.push(segment);
     }
     counts.segments_too_small = counts.segments_grown - kept_grown;
-    let planes = if config.refine {
-        crate::refine::coplanar(mesh, &segments, config)
-    } else {
-        (0..segments.len() as u32).collect()
-    };
-    for (segment, plane) in segments.iter_mut().zip(planes) {
-        segment.plane = plane;
-    }
     Ok(Segmentation { segments, counts })
 }
 
@@ -265,8 +279,8 @@ enum Outcome {
     Grown(usize),
     /// A segment with its polygon, or the failure keyed by (group, seed).
     Segment(Result<PlanarSegment, (u32, u32, SegmentError)>),
-    /// With refinement: a grown segment's group and triangles, its polygon still to come.
-    Region(u32, Vec<u32>),
+    /// With refinement: a grown segment, its polygon still to come.
+    Region(crate::refine::Grown),
 }
 
 /// A grown region: its triangles in growing order and its boundary half-edges.

@@ -157,6 +157,18 @@ impl PlaneSums {
     }
 }
 
+/// A segment grown by dominant normal, handed to refinement.
+#[derive(Debug)]
+pub(crate) struct Grown {
+    /// The dominant normal's index.
+    pub group: u32,
+    /// Its triangles.
+    pub triangles: Vec<u32>,
+    /// Its boundary half-edges (twin outside the segment or missing): where absorption
+    /// starts.
+    pub boundary: Vec<u32>,
+}
+
 /// The segments after refinement: each a list of triangles and the group it came from
 /// (the dominant normal's index, or [`NO_GROUP`] for a plane grown from free triangles).
 pub(crate) struct Refined {
@@ -165,6 +177,8 @@ pub(crate) struct Refined {
     pub planes: Vec<([f64; 3], [f64; 3])>,
     /// Per triangle, the index of its segment in `segments`, or `NONE`.
     pub labels: Vec<u32>,
+    /// Per segment, the first segment on the same plane (see [`coplanar`]).
+    pub same_plane: Vec<u32>,
     /// Free triangles absorbed into a segment.
     pub absorbed: usize,
     /// Segments grown from free triangles.
@@ -239,16 +253,17 @@ impl Mesh<'_> {
 /// docs). Segments below `min_triangles` and `min_area` afterwards are dropped.
 pub(crate) fn refine(
     mesh: &HalfEdgeMesh,
-    grown: Vec<(u32, Vec<u32>)>,
+    grown: Vec<Grown>,
     config: &SegmentationConfig,
 ) -> Refined {
     let Some(normals) = mesh.triangle_normals() else {
         return Refined {
             planes: grown
                 .iter()
-                .map(|(_, tris)| crate::geometric_plane(mesh, tris))
+                .map(|g| crate::geometric_plane(mesh, &g.triangles))
                 .collect(),
-            segments: grown,
+            same_plane: (0..grown.len() as u32).collect(),
+            segments: grown.into_iter().map(|g| (g.group, g.triangles)).collect(),
             labels: Vec::new(),
             absorbed: 0,
             free_planes: 0,
@@ -274,17 +289,22 @@ pub(crate) fn refine(
     };
     let n = mesh.num_triangles();
     let mut labels = vec![NONE; n];
-    let mut segments = grown;
-    for (s, (_, triangles)) in segments.iter().enumerate() {
-        for &t in triangles {
+    for (s, g) in grown.iter().enumerate() {
+        for &t in &g.triangles {
             labels[t as usize] = s as u32;
         }
     }
     let mut sums: Vec<PlaneSums> = {
         use rayon::prelude::*;
-        segments.par_iter().map(|(_, t)| m.sums(t)).collect()
+        grown.par_iter().map(|g| m.sums(&g.triangles)).collect()
     };
-    let mut absorbed = absorb(&m, &mut labels, &mut segments, &mut sums, 0);
+    let seeds: Vec<u32> = grown
+        .iter()
+        .flat_map(|g| g.boundary.iter().map(|&h| h / 3))
+        .collect();
+    let mut segments: Vec<(u32, Vec<u32>)> =
+        grown.into_iter().map(|g| (g.group, g.triangles)).collect();
+    let mut absorbed = absorb(&m, &mut labels, &mut segments, &mut sums, seeds);
     let first_new = segments.len();
     let big_enough = |triangles: usize, sums: &PlaneSums| {
         triangles >= config.min_triangles.max(1)
@@ -292,11 +312,18 @@ pub(crate) fn refine(
     };
     grow_free(&m, &mut labels, &mut segments, &mut sums, &big_enough);
     let free_planes = segments.len() - first_new;
-    absorbed += absorb(&m, &mut labels, &mut segments, &mut sums, first_new);
+    let seeds = segments[first_new..]
+        .iter()
+        .flat_map(|(_, tris)| tris.iter().copied())
+        .collect();
+    absorbed += absorb(&m, &mut labels, &mut segments, &mut sums, seeds);
     let before = segments.len();
-    let (segments, sums) = merge(&m, &mut labels, segments, sums);
+    let Merged {
+        segments,
+        sums,
+        interior: inside,
+    } = merge(&m, &mut labels, segments, sums);
     let merged = before - segments.len();
-    let inside = interior(&m, &labels, segments.len());
     let kept: Vec<bool> = segments
         .iter()
         .zip(&inside)
@@ -319,56 +346,36 @@ pub(crate) fn refine(
         }
     }
     relabel(&mut labels, &index);
+    let kept_sums: Vec<PlaneSums> = sums
+        .into_iter()
+        .zip(&kept)
+        .filter(|(_, keep)| **keep)
+        .map(|(sums, _)| sums)
+        .collect();
     Refined {
         segments: kept_segments,
         planes,
         labels,
+        same_plane: coplanar(&kept_sums, config.z_thresh),
         absorbed,
         free_planes,
         merged,
     }
 }
 
-/// Per segment (`count` of them, as `labels` give them), how many of its triangles have
-/// all three neighbours in it; one pass over the triangles in order.
-fn interior(m: &Mesh<'_>, labels: &[u32], count: usize) -> Vec<usize> {
-    let mut inside = vec![0usize; count];
-    for (t, &s) in labels.iter().enumerate() {
-        if s != NONE
-            && m.neighbours(t as u32)
-                .iter()
-                .all(|&u| u != NONE && labels[u as usize] == s)
-        {
-            inside[s as usize] += 1;
-        }
-    }
-    inside
-}
-
-/// Breadth-first absorption of free usable triangles into the segments from
-/// `segments[from..]`, each against its plane as `sums` give it when the pass starts;
-/// the absorbed triangles are added to `sums`. Returns how many joined.
+/// Breadth-first absorption of free usable triangles into the segments of the `seeds`
+/// triangles (segment triangles next to free ones), each against its plane as `sums`
+/// give it when the pass starts; the absorbed triangles are added to `sums`. Returns how
+/// many joined.
 fn absorb(
     m: &Mesh<'_>,
     labels: &mut [u32],
     segments: &mut [(u32, Vec<u32>)],
     sums: &mut [PlaneSums],
-    from: usize,
+    mut queue: Vec<u32>,
 ) -> usize {
     let planes: Vec<Option<Plane>> = sums.iter().map(PlaneSums::plane).collect();
     let mut absorbed = 0;
-    // In triangle order (a sequential pass), not segment by segment.
-    let from = from as u32;
-    let mut queue: Vec<u32> = (0..labels.len() as u32)
-        .filter(|&t| {
-            let s = labels[t as usize];
-            s != NONE
-                && s >= from
-                && m.neighbours(t)
-                    .iter()
-                    .any(|&u| u != NONE && labels[u as usize] == NONE)
-        })
-        .collect();
     let mut next = 0;
     while next < queue.len() {
         let t = queue[next];
@@ -465,19 +472,29 @@ fn merge(
     labels: &mut [u32],
     segments: Vec<(u32, Vec<u32>)>,
     mut sums: Vec<PlaneSums>,
-) -> (Vec<(u32, Vec<u32>)>, Vec<PlaneSums>) {
+) -> Merged {
     let mut pairs: Vec<(u32, u32)> = Vec::new();
+    // Interior triangles (all neighbours in the same segment) per segment, counted in the
+    // same pass; triangles on a segment's edge may become interior by merging, and are
+    // looked at again afterwards.
+    let mut interior = vec![0usize; segments.len()];
+    let mut edges: Vec<u32> = Vec::new();
     for (t, &a) in labels.iter().enumerate() {
         if a == NONE {
             continue;
         }
+        let mut inside = true;
         for u in m.neighbours(t as u32) {
-            if u != NONE {
-                let b = labels[u as usize];
-                if b != NONE && a < b {
-                    pairs.push((a, b));
-                }
+            let b = if u == NONE { NONE } else { labels[u as usize] };
+            inside &= b == a;
+            if b != NONE && a < b {
+                pairs.push((a, b));
             }
+        }
+        if inside {
+            interior[a as usize] += 1;
+        } else {
+            edges.push(t as u32);
         }
     }
     pairs.sort_unstable();
@@ -525,28 +542,51 @@ fn merge(
     // Roots keep their order; every segment takes its root's new index.
     let mut index = vec![NONE; out.len()];
     let mut roots = 0;
+    let mut merged_interior = Vec::new();
     for s in 0..out.len() as u32 {
         let root = find(&mut parent, s);
         if root == s {
             index[s as usize] = roots;
             roots += 1;
+            merged_interior.push(0);
         } else {
             index[s as usize] = index[root as usize];
-            if let Some((_, tris)) = out[s as usize].take() {
-                if let Some((_, into)) = out[root as usize].as_mut() {
-                    into.extend(tris);
-                }
+            if let Some((_, tris)) = out[s as usize].take()
+                && let Some((_, into)) = out[root as usize].as_mut()
+            {
+                into.extend(tris);
             }
         }
+        merged_interior[index[s as usize] as usize] += interior[s as usize];
     }
     relabel(labels, &index);
+    for t in edges {
+        let a = labels[t as usize];
+        if m.neighbours(t)
+            .iter()
+            .all(|&u| u != NONE && labels[u as usize] == a)
+        {
+            merged_interior[a as usize] += 1;
+        }
+    }
     let kept_sums = out
         .iter()
         .zip(sums)
         .filter(|(segment, _)| segment.is_some())
         .map(|(_, sums)| sums)
         .collect();
-    (out.into_iter().flatten().collect(), kept_sums)
+    Merged {
+        segments: out.into_iter().flatten().collect(),
+        sums: kept_sums,
+        interior: merged_interior,
+    }
+}
+
+/// The segments after merging, their plane sums and how many interior triangles each has.
+struct Merged {
+    segments: Vec<(u32, Vec<u32>)>,
+    sums: Vec<PlaneSums>,
+    interior: Vec<usize>,
 }
 
 /// Replaces every segment label `s` by `index[s]`, in one pass over the triangles.
@@ -560,31 +600,14 @@ fn relabel(labels: &mut [u32], index: &[u32]) {
 /// as one plane (5°), besides the plane-fit test of merging.
 pub const COPLANAR_COS: f64 = 0.996;
 
-/// For each segment, the index of the first segment on the same plane (see
-/// [`PlanarSegment::plane`](crate::PlanarSegment::plane)): segments whose normals are within
-/// [`COPLANAR_COS`] and that one plane explains as merging requires.
-pub(crate) fn coplanar(
-    mesh: &HalfEdgeMesh,
-    segments: &[crate::PlanarSegment],
-    config: &SegmentationConfig,
-) -> Vec<u32> {
-    use rayon::prelude::*;
-    let vertices = mesh.vertices();
-    let triangles = mesh.triangles();
-    let sums: Vec<PlaneSums> = segments
-        .par_iter()
-        .map(|s| {
-            let mut sums = PlaneSums::default();
-            for &t in &s.triangles {
-                sums.add_triangle(corners(vertices, triangles[t as usize]));
-            }
-            sums
-        })
-        .collect();
-    let floor = merge_floor(config.z_thresh);
-    let mut plane: Vec<u32> = (0..segments.len() as u32).collect();
-    let mut members: Vec<PlaneSums> = sums.clone();
-    for j in 0..segments.len() {
+/// For each segment (by its plane sums), the index of the first segment on the same plane
+/// (see [`PlanarSegment::plane`](crate::PlanarSegment::plane)): segments whose normals are
+/// within [`COPLANAR_COS`] and that one plane explains as merging requires.
+fn coplanar(sums: &[PlaneSums], z_thresh: f64) -> Vec<u32> {
+    let floor = merge_floor(z_thresh);
+    let mut plane: Vec<u32> = (0..sums.len() as u32).collect();
+    let mut members: Vec<PlaneSums> = sums.to_vec();
+    for j in 0..sums.len() {
         let Some(pj) = sums[j].plane() else { continue };
         for i in 0..j {
             if plane[i] != i as u32 {
