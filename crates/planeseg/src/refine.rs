@@ -301,6 +301,11 @@ pub(crate) fn refine(
     let seeds: Vec<u32> = grown
         .iter()
         .flat_map(|g| g.boundary.iter().map(|&h| h / 3))
+        .filter(|&t| {
+            m.neighbours(t)
+                .iter()
+                .any(|&u| u != NONE && labels[u as usize] == NONE)
+        })
         .collect();
     let mut segments: Vec<(u32, Vec<u32>)> =
         grown.into_iter().map(|g| (g.group, g.triangles)).collect();
