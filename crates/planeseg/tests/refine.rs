@@ -1,6 +1,7 @@
 //! Refinement on scenes with known planes: planes that are no dominant normal, a plane cut
 //! into bands by `z_thresh`, noisy triangles left out by `norm_thresh`, and one plane seen
 //! in two pieces.
+#![allow(clippy::unwrap_used)]
 
 use halfedge_mesh::HalfEdgeMesh;
 use planeseg::{NO_GROUP, PlanarSegment, SegmentationConfig, segment};
@@ -89,8 +90,8 @@ fn planes_that_are_no_dominant_normal_are_grown() {
         assert_eq!(s.group, NO_GROUP);
         let (sin, cos) = degrees.to_radians().sin_cos();
         let expected = [-sin, 0.0, cos];
-        for k in 0..3 {
-            assert!((s.normal[k] - expected[k]).abs() < 1e-9, "{:?}", s.normal);
+        for (got, want) in s.normal.iter().zip(expected) {
+            assert!((got - want).abs() < 1e-9, "{:?}", s.normal);
         }
     }
 }

@@ -159,7 +159,7 @@ fn pcd_labels(path: &Path, stride: usize, cols: usize) -> Result<Vec<i32>, CliEr
         .filter(|(i, _)| (i / full_cols) % stride == 0 && (i % full_cols) % stride == 0)
         .map(|(_, &l)| l)
         .collect();
-    if cols == 0 || kept.len() % cols != 0 {
+    if cols == 0 || !kept.len().is_multiple_of(cols) {
         return Err(CliError::Unsupported {
             what: format!("{}: the labels do not fit the cloud", path.display()),
         });

@@ -251,13 +251,13 @@ impl TruthStats {
             let longest: f64 = [len2(a, b), len2(b, c), len2(c, a)]
                 .into_iter()
                 .fold(0.0, f64::max);
-            if !(longest <= lmax2) {
+            if longest.is_nan() || longest > lmax2 {
                 stats.lmax += 1;
                 continue;
             }
             if normals
                 .get(t)
-                .is_none_or(|&n| !(nearest(n) >= config.norm_thresh))
+                .is_none_or(|&n| nearest(n).is_nan() || nearest(n) < config.norm_thresh)
             {
                 stats.normal += 1;
             }
@@ -298,10 +298,11 @@ impl TruthStats {
             };
         }
         let allowed = config.norm_thresh.clamp(-1.0, 1.0).acos().to_degrees();
-        if let Some(&degrees) = self.angles.get(&id) {
-            if degrees > allowed && !config.refine {
-                return MissCause::NoDominantNormal { degrees };
-            }
+        if let Some(&degrees) = self.angles.get(&id)
+            && degrees > allowed
+            && !config.refine
+        {
+            return MissCause::NoDominantNormal { degrees };
         }
         let kept = stats.all - stats.lmax;
         if share(stats.normal, kept) > MOST && !config.refine {
