@@ -116,7 +116,12 @@ fn noisy_triangles_on_a_plane_are_absorbed() {
     // A floor with every seventh vertex raised by 0.45: the triangles around it tilt by
     // more than norm_thresh allows (24°), yet lie within z_thresh = 0.5 of the floor.
     let mesh = height_field(30, |x, y| {
-        if (x as usize * 31 + y as usize) % 7 == 0 && x > 0.0 && y > 0.0 && x < 30.0 && y < 30.0 {
+        if (x as usize * 31 + y as usize).is_multiple_of(7)
+            && x > 0.0
+            && y > 0.0
+            && x < 30.0
+            && y < 30.0
+        {
             0.45
         } else {
             0.0
