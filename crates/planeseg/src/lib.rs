@@ -13,6 +13,14 @@
 //!    area-weighted mean of its triangle normals); holes with fewer than
 //!    `min_hole_vertices` vertices are dropped.
 //!
+//! 4. **Refinement** (optional, [`SegmentationConfig::refine`]; beyond the paper): the
+//!    grown segments absorb neighbouring triangles that fit their plane, the triangles
+//!    left over grow into planes that no dominant normal explains, segments of one plane
+//!    merge, strips without interior triangles are dropped, and segments that lie on one
+//!    plane without touching share [`PlanarSegment::plane`]; polygons are extracted after
+//!    it. [`SegmentationConfig::min_area`] then keeps regions below `min_triangles` that
+//!    are large (far planes seen by few pixels).
+//!
 //! Groups are `u32`, so any number of dominant normals works (the original's `u8` labels
 //! stop at 254). Results are sorted by (group, seed triangle) and do not depend on the
 //! thread count. [`Segmenter`] keeps the working memory between calls, for frame-by-frame
