@@ -5,15 +5,15 @@
 use std::fmt::Write as _;
 use std::time::Instant;
 
-use polylidar::{Config, Polylidar};
+use polylidar::Polylidar;
 use seg_metrics::Evaluation;
 use synthscan::{DepthCameraKind, DepthModel};
 
 use crate::bench::Ctx;
 use crate::data::{LabelledCloud, rgbd_frame, rgbd_frame_with, truth_plane_rmse};
-use crate::error::{Result, msg};
+use crate::error::Result;
 use crate::report::{Section, Table};
-use crate::tables::accuracy::score;
+use crate::tables::accuracy::{preset_pipeline, score, suite_seeds};
 use crate::timing::{median_of, ms};
 
 /// The presets scored, in row order per camera.
@@ -33,16 +33,9 @@ pub fn run(ctx: &Ctx) -> Result<Section> {
     let threads = ctx.parallel_threads();
     let mut pipelines = Vec::new();
     for name in PRESETS {
-        let config = Config::preset(name)
-            .ok_or_else(|| msg(format!("no {name} preset")))?
-            .with_threads(threads);
-        pipelines.push((name, Polylidar::new(config)?));
+        pipelines.push((name, preset_pipeline(ctx, name)?));
     }
-    let seeds: Vec<u64> = if ctx.quick {
-        (1..=2).collect()
-    } else {
-        (1..=20).collect()
-    };
+    let seeds = suite_seeds(ctx);
 
     let mut table = Table::new([
         "camera",

@@ -4,7 +4,7 @@
 use std::fmt::Write as _;
 use std::time::Instant;
 
-use polylidar::{Config, Polylidar};
+use polylidar::Polylidar;
 use seg_metrics::Evaluation;
 
 use crate::bench::Ctx;
@@ -12,9 +12,9 @@ use crate::data::{
     FIXTURES_NAME, LabelledCloud, SYNTHETIC_RADIAL_SIGMA, read_synpeb, synthetic_frame,
     truth_plane_rmse,
 };
-use crate::error::{Result, msg};
+use crate::error::Result;
 use crate::report::{PAPER_HARDWARE, Section, Table};
-use crate::tables::accuracy::score;
+use crate::tables::accuracy::{preset_pipeline, score, suite_seeds};
 use crate::timing::{median_of, ms};
 
 /// Noise levels of the synthetic rows: (radial σ in m, tangential σ in mdeg). SynPEB's four
@@ -45,19 +45,9 @@ struct Scored {
 /// Pipeline, scoring or scene errors.
 pub fn run(ctx: &Ctx) -> Result<Section> {
     let threads = ctx.parallel_threads();
-    let preset = |name: &str| -> Result<Polylidar> {
-        let config = Config::preset(name)
-            .ok_or_else(|| msg(format!("no {name} preset")))?
-            .with_threads(threads);
-        Ok(Polylidar::new(config)?)
-    };
-    let auto = preset("synpeb-auto")?;
-    let fixed = preset("synpeb")?;
-    let seeds: Vec<u64> = if ctx.quick {
-        (1..=2).collect()
-    } else {
-        (1..=20).collect()
-    };
+    let auto = preset_pipeline(ctx, "synpeb-auto")?;
+    let fixed = preset_pipeline(ctx, "synpeb")?;
+    let seeds = suite_seeds(ctx);
 
     let mut table = Table::new([
         "data",
