@@ -62,7 +62,9 @@ pub use groups::{GroupCounts, NO_GROUP, assign_groups};
 pub use grow::{
     PlanarSegment, Segmentation, SegmentationCounts, Segmenter, geometric_plane, segment,
 };
-pub use refine::{ABSORB_COS, COPLANAR_COS, MERGE_RMS_GROWTH, MIN_INTERIOR_SHARE};
+pub use refine::{
+    ABSORB_COS, ADJACENT_FLOOR, COPLANAR_COS, COPLANAR_FLOOR, MERGE_RMS_GROWTH, MIN_INTERIOR_SHARE,
+};
 
 use polyextract::ExtractError;
 

@@ -20,14 +20,14 @@
 //! 3. **Merge**: segments that share an edge merge when one plane explains both: the
 //!    normals are within `norm_thresh`, and the root mean square distance of each one's
 //!    triangles to their common plane stays within [`MERGE_RMS_GROWTH`] times the
-//!    noisier segment's own spread, or below a floor of `z_thresh / 8`; a step or a
-//!    ridge between two planes makes the common plane fit much worse.
+//!    noisier segment's own spread, or below [`ADJACENT_FLOOR`] of `z_thresh`; a ridge
+//!    between two planes makes the common plane fit much worse.
 //! 4. **Strips dropped**: a segment keeps only if [`MIN_INTERIOR_SHARE`] of its
 //!    triangles have all three neighbours in it.
 //!
 //! 5. **One plane, several polygons** ([`coplanar`]): after polygon extraction, segments
 //!    that no edge connects but whose normals are within [`COPLANAR_COS`] and that pass
-//!    the same plane test are reported as lying on one plane (a wall seen on both sides
+//!    the same plane test (with the floor [`COPLANAR_FLOOR`]) are reported as lying on one plane (a wall seen on both sides
 //!    of an object in front of it); each keeps its own polygon.
 //!
 //!
@@ -522,7 +522,7 @@ fn merge(
         }
         x
     };
-    let floor = merge_floor(m.z_thresh);
+    let floor = merge_floor(m.z_thresh, ADJACENT_FLOOR);
     for (_, a, b) in counted {
         let (ra, rb) = (find(&mut parent, a), find(&mut parent, b));
         if ra == rb {
@@ -609,7 +609,7 @@ pub const COPLANAR_COS: f64 = 0.996;
 /// (see [`PlanarSegment::plane`](crate::PlanarSegment::plane)): segments whose normals are
 /// within [`COPLANAR_COS`] and that one plane explains as merging requires.
 fn coplanar(sums: &[PlaneSums], z_thresh: f64) -> Vec<u32> {
-    let floor = merge_floor(z_thresh);
+    let floor = merge_floor(z_thresh, COPLANAR_FLOOR);
     let mut plane: Vec<u32> = (0..sums.len() as u32).collect();
     let mut members: Vec<PlaneSums> = sums.to_vec();
     for j in 0..sums.len() {
@@ -634,10 +634,21 @@ fn coplanar(sums: &[PlaneSums], z_thresh: f64) -> Vec<u32> {
     plane
 }
 
-/// The rms floor under which two pieces count as one plane whatever their own spread.
-fn merge_floor(z_thresh: f64) -> f64 {
+/// The RMS below which two segments that share an edge count as one plane whatever their
+/// own spread, as a share of `z_thresh`: half of it, the spread of points within
+/// `z_thresh` of a plane. Pieces of a wall that depth quantisation cut into parallel
+/// steps (each step flat, the steps a few centimetres apart) merge; two faces meeting at
+/// an angle do not, their common plane fits far worse.
+pub const ADJACENT_FLOOR: f64 = 0.5;
+
+/// As [`ADJACENT_FLOOR`], for segments that no edge connects ([`coplanar`]): an eighth of
+/// `z_thresh`, as two separate surfaces need more evidence to be one plane.
+pub const COPLANAR_FLOOR: f64 = 0.125;
+
+/// `share` of `z_thresh` (0 when `z_thresh` is off).
+fn merge_floor(z_thresh: f64, share: f64) -> f64 {
     if z_thresh.is_finite() && z_thresh > 0.0 {
-        z_thresh / 8.0
+        z_thresh * share
     } else {
         0.0
     }
