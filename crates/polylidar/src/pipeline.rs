@@ -114,6 +114,13 @@ pub struct Extraction {
     /// 3D: the dominant plane normals (unit) the segments were grown for; a polygon's
     /// [`ExtractedPolygon::group`] indexes this. Empty for 2D and 2.5D input.
     pub dominant_normals: Vec<[f64; 3]>,
+    /// [`Self::plane_labels`] also gives a vertex in no polygon the plane of the one
+    /// polygon whose vertices share triangles with it, when it lies within this distance
+    /// of that plane (the rim of a plane, whose triangles reach over the edge onto the
+    /// next surface); `0` labels polygon vertices only. The pipeline sets it to half of
+    /// `z_thresh` with [`crate::Config::refine`] (the spread of points within `z_thresh`
+    /// of a plane), `0` otherwise.
+    pub rim_distance: f64,
     /// Per-stage counts and timings.
     pub diagnostics: Diagnostics,
 }
@@ -138,12 +145,69 @@ impl Extraction {
         self.labels(|index| index as i32)
     }
 
-    /// As [`Self::point_labels`], with each polygon's [`ExtractedPolygon::plane_id`] in
-    /// place of its index: the plane of every vertex, which is what a plane segmentation
-    /// is scored on (Hoover et al.). The same as `point_labels` unless refinement found
-    /// polygons on one plane.
+    /// The plane of every vertex, `-1` for none: what a plane segmentation is scored on
+    /// (Hoover et al.). As [`Self::point_labels`], with each polygon's
+    /// [`ExtractedPolygon::plane_id`] in place of its index, and the rim vertices of
+    /// [`Self::rim_distance`]. The same as `point_labels` unless refinement ran.
+    ///
+    /// ```
+    /// use polylidar::{Config, Polylidar};
+    /// let points: Vec<[f64; 2]> = (0..100).map(|i| [(i % 10) as f64, (i / 10) as f64]).collect();
+    /// let extraction = Polylidar::new(Config::new().with_lmax(1.5))?.extract_2d(&points)?;
+    /// assert_eq!(extraction.rim_distance, 0.0);
+    /// assert_eq!(extraction.plane_labels(), extraction.point_labels());
+    /// # Ok::<(), polylidar::PolylidarError>(())
+    /// ```
     pub fn plane_labels(&self) -> Vec<i32> {
-        self.labels(|index| self.polygons[index].plane_id as i32)
+        let owner = self.labels(|index| index as i32);
+        let plane_of = |polygon: i32| self.polygons[polygon as usize].plane_id as i32;
+        if self.rim_distance <= 0.0 {
+            return owner
+                .into_iter()
+                .map(|o| if o < 0 { -1 } else { plane_of(o) })
+                .collect();
+        }
+        // Per vertex in no polygon: the one polygon its triangles share vertices with
+        // (-1: none, -2: several).
+        let mut neighbour = vec![-1i32; owner.len()];
+        for tri in self.mesh.triangles() {
+            for &v in tri {
+                if owner[v as usize] >= 0 {
+                    continue;
+                }
+                for &u in tri {
+                    let o = owner[u as usize];
+                    let n = &mut neighbour[v as usize];
+                    if o >= 0 && *n != o {
+                        *n = if *n == -1 { o } else { -2 };
+                    }
+                }
+            }
+        }
+        let vertices = self.mesh.vertices();
+        owner
+            .iter()
+            .zip(&neighbour)
+            .zip(vertices)
+            .map(|((&o, &n), p)| {
+                if o >= 0 {
+                    return plane_of(o);
+                }
+                if n < 0 {
+                    return -1;
+                }
+                let plane = &self.polygons[n as usize].plane;
+                let d = plane.normal[0] * p[0]
+                    + plane.normal[1] * p[1]
+                    + plane.normal[2] * p[2]
+                    + plane.offset;
+                if d.abs() <= self.rim_distance {
+                    plane_of(n)
+                } else {
+                    -1
+                }
+            })
+            .collect()
     }
 
     /// The label `label(polygon index)` of every vertex, as [`Self::point_labels`] assigns
@@ -396,6 +460,11 @@ impl Polylidar {
             polygons,
             postprocessed: Vec::new(),
             dominant_normals,
+            rim_distance: if self.config.refine && self.config.z_thresh > 0.0 {
+                self.config.z_thresh / 2.0
+            } else {
+                0.0
+            },
             diagnostics: Diagnostics { counts, timings },
         };
         self.postprocess(&mut extraction)?;
