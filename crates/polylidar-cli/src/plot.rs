@@ -15,8 +15,8 @@
 use polylidar::{Extraction, OrganizedPointCloud, PlaneFrame};
 use tiny_skia::{Color, ColorU8, FillRule, Paint, PathBuilder, Pixmap, Rect, Stroke, Transform};
 
-use pixel_font as font;
 use crate::input::Input;
+use pixel_font as font;
 
 /// Longest side of the picture in pixels.
 const SIZE: f64 = 1200.0;
