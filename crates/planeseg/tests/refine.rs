@@ -8,22 +8,13 @@ use planeseg::{NO_GROUP, PlanarSegment, SegmentationConfig, segment};
 
 /// An `n × n` grid of unit cells over `x, y`, lifted by `height`, two triangles a cell.
 fn height_field(n: usize, height: impl Fn(f64, f64) -> f64) -> HalfEdgeMesh {
-    let vertices = (0..=n * (n + 1) + n)
+    let vertices = (0..(n + 1) * (n + 1))
         .map(|i| {
             let (x, y) = ((i % (n + 1)) as f64, (i / (n + 1)) as f64);
             [x, y, height(x, y)]
         })
         .collect();
-    let id = |x: usize, y: usize| (y * (n + 1) + x) as u32;
-    let triangles = (0..n * n)
-        .flat_map(|cell| {
-            let (x, y) = (cell % n, cell / n);
-            [
-                [id(x, y), id(x + 1, y), id(x + 1, y + 1)],
-                [id(x, y), id(x + 1, y + 1), id(x, y + 1)],
-            ]
-        })
-        .collect();
+    let triangles = test_fixtures::grid_triangles(n);
     let mut mesh = HalfEdgeMesh::from_triangles(vertices, triangles).unwrap();
     mesh.compute_triangle_normals();
     mesh
@@ -202,12 +193,11 @@ fn two_grids(n: usize, coarse: f64, fine: f64) -> HalfEdgeMesh {
             let (x, y) = ((i % (n + 1)) as f64, (i / (n + 1)) as f64);
             vertices.push([x0 + x * cell, y * cell, 0.0]);
         }
-        let id = |x: usize, y: usize| first + (y * (n + 1) + x) as u32;
-        for cellid in 0..n * n {
-            let (x, y) = (cellid % n, cellid / n);
-            triangles.push([id(x, y), id(x + 1, y), id(x + 1, y + 1)]);
-            triangles.push([id(x, y), id(x + 1, y + 1), id(x, y + 1)]);
-        }
+        triangles.extend(
+            test_fixtures::grid_triangles(n)
+                .into_iter()
+                .map(|t| t.map(|v| first + v)),
+        );
     }
     let mut mesh = HalfEdgeMesh::from_triangles(vertices, triangles).unwrap();
     mesh.compute_triangle_normals();

@@ -19,15 +19,7 @@ fn terrain_at(n: usize, origin: [f64; 3], height: impl Fn(usize, usize) -> f64) 
         .map(|(r, c)| [c as f64, r as f64, height(r, c)])
         .map(|p| [0, 1, 2].map(|k| origin[k] + p[k]))
         .collect();
-    let id = |r: usize, c: usize| (r * (n + 1) + c) as u32;
-    let mut triangles = Vec::new();
-    for r in 0..n {
-        for c in 0..n {
-            triangles.push([id(r, c), id(r, c + 1), id(r + 1, c + 1)]);
-            triangles.push([id(r, c), id(r + 1, c + 1), id(r + 1, c)]);
-        }
-    }
-    HalfEdgeMesh::from_triangles(vertices, triangles).unwrap()
+    HalfEdgeMesh::from_triangles(vertices, test_fixtures::grid_triangles(n)).unwrap()
 }
 
 /// The serial oracle: Alg. 4 and 5 written as plainly as possible.

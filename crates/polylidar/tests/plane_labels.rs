@@ -17,16 +17,7 @@ fn floor_with_raised_edge(n: usize, raise: f64) -> HalfEdgeMesh {
             ]
         })
         .collect();
-    let id = |x: usize, y: usize| (y * (n + 1) + x) as u32;
-    let triangles = (0..n * n)
-        .flat_map(|cell| {
-            let (x, y) = (cell % n, cell / n);
-            [
-                [id(x, y), id(x + 1, y), id(x + 1, y + 1)],
-                [id(x, y), id(x + 1, y + 1), id(x, y + 1)],
-            ]
-        })
-        .collect();
+    let triangles = test_fixtures::grid_triangles(n);
     HalfEdgeMesh::from_triangles(vertices, triangles).unwrap()
 }
 

@@ -114,3 +114,26 @@ pub fn random_unit_normals(count: usize, seed: u64) -> Vec<[f64; 3]> {
         })
         .collect()
 }
+
+/// The triangles of an `n × n` grid of cells over `(n + 1)²` vertices numbered row by row
+/// (`y · (n + 1) + x`), two counter-clockwise triangles a cell (seen from `+z` when `x`
+/// and `y` grow along the first two axes): the mesh of a height field or a flat patch.
+///
+/// ```
+/// let triangles = test_fixtures::grid_triangles(2);
+/// assert_eq!(triangles.len(), 8);
+/// assert_eq!(triangles[0], [0, 1, 4]);
+/// assert!(triangles.iter().flatten().all(|&v| v < 9));
+/// ```
+pub fn grid_triangles(n: usize) -> Vec<[u32; 3]> {
+    let id = |x: usize, y: usize| (y * (n + 1) + x) as u32;
+    (0..n * n)
+        .flat_map(|cell| {
+            let (x, y) = (cell % n, cell / n);
+            [
+                [id(x, y), id(x + 1, y), id(x + 1, y + 1)],
+                [id(x, y), id(x + 1, y + 1), id(x, y + 1)],
+            ]
+        })
+        .collect()
+}
