@@ -79,13 +79,17 @@ pub fn estimate_noise_absolute(cloud: &OrganizedPointCloud) -> Option<f64> {
 /// `cargo run --release -p polylidar --example train_laplacian` on SynPEB-like synthetic
 /// scans with the `synpeb` preset's other parameters.
 pub fn predict_laplacian_iterations(noise: f64) -> u32 {
-    let predicted = MODEL_INTERCEPT + MODEL_SLOPE * noise;
+    passes(MODEL_INTERCEPT + MODEL_SLOPE * noise)
+}
+
+/// `predicted` rounded to a pass count in `0..=`[`MAX_AUTO_ITERATIONS`] (0 when not
+/// positive or not finite).
+fn passes(predicted: f64) -> u32 {
     if !predicted.is_finite() || predicted <= 0.0 {
         return 0;
     }
-    let max = f64::from(MAX_AUTO_ITERATIONS);
     // In 0..=MAX after the clamp, so the cast is exact.
-    predicted.round().min(max) as u32
+    predicted.round().min(f64::from(MAX_AUTO_ITERATIONS)) as u32
 }
 
 /// [`estimate_noise`] of the cloud taken at every [`CORRELATION_STRIDE`]-th row and
@@ -114,7 +118,11 @@ pub fn predict_laplacian_iterations(noise: f64) -> u32 {
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn estimate_noise_correlation(cloud: &OrganizedPointCloud) -> Option<f64> {
-    let fine = estimate_noise(cloud)?;
+    correlation(cloud, estimate_noise(cloud)?)
+}
+
+/// [`estimate_noise_correlation`] for a cloud whose [`estimate_noise`] is `fine`.
+fn correlation(cloud: &OrganizedPointCloud, fine: f64) -> Option<f64> {
     let coarse = estimate_noise(&cloud.downsample(CORRELATION_STRIDE).ok()?)?;
     let ratio = coarse / fine;
     (ratio.is_finite() && ratio > 0.0).then_some(ratio)
@@ -142,14 +150,9 @@ pub fn auto_laplacian_iterations(cloud: &OrganizedPointCloud) -> u32 {
     let Some(noise) = estimate_noise(cloud) else {
         return 0;
     };
-    let base = MODEL_INTERCEPT + MODEL_SLOPE * noise;
-    let factor = estimate_noise_correlation(cloud)
-        .map_or(1.0, |ratio| (ratio / WHITE_NOISE_RATIO).max(1.0).powi(2));
-    let predicted = base * factor;
-    if !predicted.is_finite() || predicted <= 0.0 {
-        return 0;
-    }
-    predicted.round().min(f64::from(MAX_AUTO_ITERATIONS)) as u32
+    let factor =
+        correlation(cloud, noise).map_or(1.0, |ratio| (ratio / WHITE_NOISE_RATIO).max(1.0).powi(2));
+    passes((MODEL_INTERCEPT + MODEL_SLOPE * noise) * factor)
 }
 
 /// The eigenvalues λ₀ ≤ λ₁ ≤ λ₂ of one neighbourhood's covariance.
