@@ -3,27 +3,20 @@
 //! Kinect v1 and a RealSense D435 model, each at full and half resolution.
 
 use std::fmt::Write as _;
-use std::time::Instant;
 
-use polylidar::Polylidar;
-use seg_metrics::Evaluation;
 use synthscan::{DepthCameraKind, DepthModel};
 
 use crate::bench::Ctx;
 use crate::data::{LabelledCloud, rgbd_frame, rgbd_frame_with, truth_plane_rmse};
 use crate::error::Result;
 use crate::report::{Section, Table};
-use crate::tables::accuracy::{preset_pipeline, score, suite_seeds};
-use crate::timing::{median_of, ms};
+use crate::tables::accuracy::{
+    SCORE_COLUMNS, Scored, mean, mean_mm, planes_per_frame, preset_pipeline, run_frame,
+    score_cells, suite_seeds,
+};
 
 /// The presets scored, in row order per camera.
 const PRESETS: [&str; 2] = ["rgbd", "synpeb-auto"];
-
-/// Scores and time of one frame.
-struct Scored {
-    eval: Evaluation,
-    ms: f64,
-}
 
 /// Runs Table 10b.
 ///
@@ -37,22 +30,18 @@ pub fn run(ctx: &Ctx) -> Result<Section> {
     }
     let seeds = suite_seeds(ctx);
 
-    let mut table = Table::new([
-        "camera",
-        "preset",
-        "frames",
-        "planes / frame",
-        "valid [%]",
-        "noise [mm]",
-        "f [%]",
-        "k [%]",
-        "RMSE [mm]",
-        "n_o",
-        "n_u",
-        "n_m",
-        "n_s",
-        "time (median)",
-    ]);
+    let mut table = Table::new(
+        [
+            "camera",
+            "preset",
+            "frames",
+            "planes / frame",
+            "valid [%]",
+            "noise [mm]",
+        ]
+        .into_iter()
+        .chain(SCORE_COLUMNS),
+    );
     for kind in DepthCameraKind::ALL {
         let frames = seeds
             .iter()
@@ -62,12 +51,7 @@ pub fn run(ctx: &Ctx) -> Result<Section> {
             let n = f.labels.len().max(1) as f64;
             100.0 * f.labels.iter().filter(|&&l| l >= 0).count() as f64 / n
         }));
-        let noise: Vec<f64> = frames.iter().filter_map(truth_plane_rmse).collect();
-        let noise = if noise.is_empty() {
-            "–".to_owned()
-        } else {
-            format!("{:.1}", 1e3 * mean(noise.into_iter()))
-        };
+        let noise = mean_mm(frames.iter().filter_map(truth_plane_rmse));
         for (name, polylidar) in &pipelines {
             let scored = frames
                 .iter()
@@ -153,46 +137,16 @@ pub fn run(ctx: &Ctx) -> Result<Section> {
     })
 }
 
-/// Mean of the values (0 for none).
-fn mean(values: impl Iterator<Item = f64>) -> f64 {
-    let (sum, n) = values.fold((0.0, 0usize), |(s, n), v| (s + v, n + 1));
-    if n == 0 { 0.0 } else { sum / n as f64 }
-}
-
-/// Extracts and scores one frame.
-fn run_frame(polylidar: &Polylidar, frame: &LabelledCloud) -> Result<Scored> {
-    let start = Instant::now();
-    let extraction = polylidar.extract_organized(&frame.cloud)?;
-    let ms = start.elapsed().as_secs_f64() * 1e3;
-    Ok(Scored {
-        eval: score(frame, &extraction)?,
-        ms,
-    })
-}
-
 /// A row of means over the frames.
 fn row(camera: &str, preset: &str, scored: &[Scored], valid: f64, noise: &str) -> Vec<String> {
-    let m = |f: &dyn Fn(&Evaluation) -> f64| mean(scored.iter().map(|s| f(&s.eval)));
-    let rmse: Vec<f64> = scored.iter().filter_map(|s| s.eval.rmse).collect();
-    let rmse = if rmse.is_empty() {
-        "–".to_owned()
-    } else {
-        format!("{:.1}", 1e3 * mean(rmse.into_iter()))
-    };
-    vec![
+    let mut cells = vec![
         camera.to_owned(),
         preset.to_owned(),
         scored.len().to_string(),
-        format!("{:.1}", m(&|e| e.truth_planes as f64)),
+        planes_per_frame(scored),
         format!("{valid:.1}"),
         noise.to_owned(),
-        format!("{:.1}", m(&|e| e.f)),
-        format!("{:.1}", m(&|e| e.k)),
-        rmse,
-        format!("{:.1}", m(&|e| e.over_segmented as f64)),
-        format!("{:.1}", m(&|e| e.under_segmented as f64)),
-        format!("{:.1}", m(&|e| e.missed as f64)),
-        format!("{:.1}", m(&|e| e.spurious as f64)),
-        median_of(scored.iter().map(|s| s.ms).collect()).map_or_else(|| "–".to_owned(), ms),
-    ]
+    ];
+    cells.extend(score_cells(scored));
+    cells
 }

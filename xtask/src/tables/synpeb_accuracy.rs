@@ -2,20 +2,15 @@
 //! SynPEB-like suite per noise level, and on the real SynPEB frames.
 
 use std::fmt::Write as _;
-use std::time::Instant;
-
-use polylidar::Polylidar;
-use seg_metrics::Evaluation;
 
 use crate::bench::Ctx;
-use crate::data::{
-    FIXTURES_NAME, LabelledCloud, SYNTHETIC_RADIAL_SIGMA, read_synpeb, synthetic_frame,
-    truth_plane_rmse,
-};
+use crate::data::{FIXTURES_NAME, SYNTHETIC_RADIAL_SIGMA, read_synpeb, synthetic_frame};
 use crate::error::Result;
 use crate::report::{PAPER_HARDWARE, Section, Table};
-use crate::tables::accuracy::{preset_pipeline, score, suite_seeds};
-use crate::timing::{median_of, ms};
+use crate::tables::accuracy::{
+    SCORE_COLUMNS, Scored, mean_mm, planes_per_frame, preset_pipeline, run_frame, score_cells,
+    suite_seeds,
+};
 
 /// Noise levels of the synthetic rows: (radial σ in m, tangential σ in mdeg). SynPEB's four
 /// tangential levels at the calibrated radial noise, then a radial sweep at 1 mdeg.
@@ -29,16 +24,6 @@ const NOISE_LEVELS: [(f64, f64); 7] = [
     (0.03, 1.0),
 ];
 
-/// Scores and time of one frame.
-struct Scored {
-    eval: Evaluation,
-    ms: f64,
-    /// Ground-truth plane-fit RMSE of the frame (its noise), metres.
-    noise: Option<f64>,
-    /// Laplacian passes the pipeline ran (predicted from the noise).
-    iterations: u32,
-}
-
 /// Runs Table 10.
 ///
 /// # Errors
@@ -49,21 +34,17 @@ pub fn run(ctx: &Ctx) -> Result<Section> {
     let fixed = preset_pipeline(ctx, "synpeb")?;
     let seeds = suite_seeds(ctx);
 
-    let mut table = Table::new([
-        "data",
-        "frames",
-        "planes / frame",
-        "noise [mm]",
-        "Laplacian it.",
-        "f [%]",
-        "k [%]",
-        "RMSE [mm]",
-        "n_o",
-        "n_u",
-        "n_m",
-        "n_s",
-        "time (median)",
-    ]);
+    let mut table = Table::new(
+        [
+            "data",
+            "frames",
+            "planes / frame",
+            "noise [mm]",
+            "Laplacian it.",
+        ]
+        .into_iter()
+        .chain(SCORE_COLUMNS),
+    );
     for (radial, mdeg) in NOISE_LEVELS {
         let mut scored = Vec::new();
         for &seed in &seeds {
@@ -209,57 +190,21 @@ pub fn run(ctx: &Ctx) -> Result<Section> {
     })
 }
 
-/// Extracts and scores one frame.
-fn run_frame(polylidar: &Polylidar, frame: &LabelledCloud) -> Result<Scored> {
-    let start = Instant::now();
-    let extraction = polylidar.extract_organized(&frame.cloud)?;
-    let ms = start.elapsed().as_secs_f64() * 1e3;
-    Ok(Scored {
-        eval: score(frame, &extraction)?,
-        ms,
-        noise: truth_plane_rmse(frame),
-        iterations: extraction.diagnostics.counts.laplacian_iterations,
-    })
-}
-
 /// A row of means over the frames.
 fn row(name: &str, scored: &[Scored]) -> Vec<String> {
-    let n = scored.len().max(1) as f64;
-    let mean = |f: &dyn Fn(&Evaluation) -> f64| scored.iter().map(|s| f(&s.eval)).sum::<f64>() / n;
-    let rmse: Vec<f64> = scored.iter().filter_map(|s| s.eval.rmse).collect();
-    let rmse = if rmse.is_empty() {
-        "–".to_owned()
-    } else {
-        format!("{:.1}", 1e3 * rmse.iter().sum::<f64>() / rmse.len() as f64)
-    };
-    let noise: Vec<f64> = scored.iter().filter_map(|s| s.noise).collect();
-    let noise = if noise.is_empty() {
-        "–".to_owned()
-    } else {
-        format!(
-            "{:.1}",
-            1e3 * noise.iter().sum::<f64>() / noise.len() as f64
-        )
-    };
     let lo = scored.iter().map(|s| s.iterations).min().unwrap_or(0);
     let hi = scored.iter().map(|s| s.iterations).max().unwrap_or(0);
-    vec![
+    let mut cells = vec![
         name.to_owned(),
         scored.len().to_string(),
-        format!("{:.1}", mean(&|e| e.truth_planes as f64)),
-        noise,
+        planes_per_frame(scored),
+        mean_mm(scored.iter().filter_map(|s| s.noise)),
         if lo == hi {
             lo.to_string()
         } else {
             format!("{lo}–{hi}")
         },
-        format!("{:.1}", mean(&|e| e.f)),
-        format!("{:.1}", mean(&|e| e.k)),
-        rmse,
-        format!("{:.1}", mean(&|e| e.over_segmented as f64)),
-        format!("{:.1}", mean(&|e| e.under_segmented as f64)),
-        format!("{:.1}", mean(&|e| e.missed as f64)),
-        format!("{:.1}", mean(&|e| e.spurious as f64)),
-        median_of(scored.iter().map(|s| s.ms).collect()).map_or_else(|| "–".to_owned(), ms),
-    ]
+    ];
+    cells.extend(score_cells(scored));
+    cells
 }
