@@ -21,12 +21,11 @@
 //!   *shadow* of near objects (background the second view cannot see: a band left of each
 //!   foreground edge as wide as the disparity difference), and outside the working range.
 
-use rand::rngs::Xoshiro256PlusPlus;
-use rand::{RngExt, SeedableRng};
+use rand::RngExt;
 use rayon::prelude::*;
 
 use crate::bvh::Bvh;
-use crate::error::{SceneError, non_negative, positive};
+use crate::error::{SceneError, non_negative, positive, within};
 use crate::scan::{ScanResult, normal_pair};
 use crate::scene::Scene;
 use crate::sensor::{PinholeCamera, Pose, Sensor};
@@ -224,20 +223,18 @@ impl DepthModel {
                 reason: "must be > min_depth",
             });
         }
-        if !(0.0..=90.0).contains(&self.grazing_start_deg) {
-            return Err(SceneError::InvalidParameter {
-                name: "grazing_start_deg",
-                value: self.grazing_start_deg,
-                reason: "must be in [0, 90]",
-            });
-        }
-        if !(self.grazing_start_deg..=90.0).contains(&self.grazing_end_deg) {
-            return Err(SceneError::InvalidParameter {
-                name: "grazing_end_deg",
-                value: self.grazing_end_deg,
-                reason: "must be in [grazing_start_deg, 90]",
-            });
-        }
+        within(
+            "grazing_start_deg",
+            self.grazing_start_deg,
+            0.0..=90.0,
+            "must be in [0, 90]",
+        )?;
+        within(
+            "grazing_end_deg",
+            self.grazing_end_deg,
+            self.grazing_start_deg..=90.0,
+            "must be in [grazing_start_deg, 90]",
+        )?;
         positive("edge_jump", self.edge_jump)?;
         if self.edge_band > MAX_EDGE_BAND {
             return Err(SceneError::InvalidParameter {
@@ -246,13 +243,7 @@ impl DepthModel {
                 reason: "must be at most MAX_EDGE_BAND (64)",
             });
         }
-        if !(0.0..=1.0).contains(&self.edge_drop) {
-            return Err(SceneError::InvalidParameter {
-                name: "edge_drop",
-                value: self.edge_drop,
-                reason: "must be in [0, 1]",
-            });
-        }
+        within("edge_drop", self.edge_drop, 0.0..=1.0, "must be in [0, 1]")?;
         Ok(())
     }
 }
@@ -462,9 +453,7 @@ impl Scene {
             .zip(labels.par_chunks_mut(cols))
             .enumerate()
             .for_each(|(row, (pts, lbs))| {
-                let mut rng = Xoshiro256PlusPlus::seed_from_u64(
-                    seed ^ DEPTH_STREAM ^ (row as u64 + 1).wrapping_mul(0x9E37_79B9_7F4A_7C15),
-                );
+                let mut rng = crate::scan::row_rng(seed ^ DEPTH_STREAM, row);
                 for col in 0..cols {
                     let i = row * cols + col;
                     // The same four draws for every pixel.

@@ -154,6 +154,24 @@ pub(crate) fn positive(name: &'static str, value: f64) -> Result<f64, SceneError
     }
 }
 
+/// Checks that `value` lies in `range` (so it is not NaN); `reason` says which range.
+pub(crate) fn within(
+    name: &'static str,
+    value: f64,
+    range: std::ops::RangeInclusive<f64>,
+    reason: &'static str,
+) -> Result<f64, SceneError> {
+    if range.contains(&value) {
+        Ok(value)
+    } else {
+        Err(SceneError::InvalidParameter {
+            name,
+            value,
+            reason,
+        })
+    }
+}
+
 /// Checks that `value` is finite and `>= 0`.
 pub(crate) fn non_negative(name: &'static str, value: f64) -> Result<f64, SceneError> {
     if value.is_finite() && value >= 0.0 {

@@ -147,9 +147,7 @@ impl Scene {
             .zip(labels.par_chunks_mut(cols))
             .enumerate()
             .for_each(|(row, (pts, lbs))| {
-                let mut rng = Xoshiro256PlusPlus::seed_from_u64(
-                    noise.seed ^ (row as u64 + 1).wrapping_mul(0x9E37_79B9_7F4A_7C15),
-                );
+                let mut rng = row_rng(noise.seed, row);
                 for col in 0..cols {
                     // Draw the pixel's noise first, so every pixel uses the same amount of
                     // its row's stream.
@@ -185,4 +183,11 @@ impl Scene {
             planes: self.ground_truth(),
         })
     }
+}
+
+/// The random stream of image row `row` for a scan seeded with `seed`: one stream a row,
+/// so that the rows can be drawn in parallel and the scan does not depend on the thread
+/// count.
+pub(crate) fn row_rng(seed: u64, row: usize) -> Xoshiro256PlusPlus {
+    Xoshiro256PlusPlus::seed_from_u64(seed ^ (row as u64 + 1).wrapping_mul(0x9E37_79B9_7F4A_7C15))
 }
