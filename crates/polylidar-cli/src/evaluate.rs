@@ -297,15 +297,20 @@ const CAUSE_COLOURS: [(&str, [u8; 3]); 10] = [
 ];
 /// Correctly found planes.
 const FOUND: [u8; 3] = [110, 150, 110];
+/// Ground-truth planes not found, when no cause is known (scoring `--predicted` labels).
+const NOT_FOUND: [u8; 3] = [150, 100, 40];
 /// Valid pixels of no ground-truth plane.
 const UNLABELLED: [u8; 3] = [45, 45, 45];
 
 fn legend(path: &Path) -> String {
     let mut s = format!(
-        "{}: ground truth by outcome; found: grey-green; no plane: dark grey; no return: black; spurious planes: white dots",
+        "{}: ground truth by outcome; found: grey-green; no plane: dark grey; no return: black; spurious planes: white dots; not found (no cause known with --predicted): rgb(150, 100, 40)",
         path.display()
     );
-    for (name, [r, g, b]) in &CAUSE_COLOURS[..8] {
+    for (name, [r, g, b]) in CAUSE_COLOURS
+        .iter()
+        .filter(|(name, _)| !name.starts_with("spurious"))
+    {
         s += &format!("; {name}: rgb({r}, {g}, {b})");
     }
     s
@@ -325,20 +330,23 @@ fn render(
             what: "--plot needs organized input".to_owned(),
         });
     };
-    let cause_of = |label: i32, spurious: bool| -> Option<[u8; 3]> {
-        let m = misses?
-            .iter()
-            .find(|m| m.id == label && m.cause.is_spurious() == spurious)?;
-        CAUSE_COLOURS
-            .iter()
-            .find(|(name, _)| *name == m.cause.name())
-            .map(|(_, c)| *c)
-    };
     let found: std::collections::BTreeSet<i32> = evaluation
         .truth_regions
         .iter()
-        .filter(|r| matches!(r.class, TruthClass::Correct { .. }))
+        .filter(|r| matches!(r.class, TruthClass::Correct { .. } | TruthClass::Ignored))
         .map(|r| r.id)
+        .collect();
+    // The colour of each ground-truth plane that was not found, by its cause.
+    let colour_of: std::collections::BTreeMap<i32, [u8; 3]> = misses
+        .unwrap_or(&[])
+        .iter()
+        .filter(|m| !m.cause.is_spurious())
+        .filter_map(|m| {
+            let colour = CAUSE_COLOURS
+                .iter()
+                .find(|(name, _)| *name == m.cause.name())?;
+            Some((m.id, colour.1))
+        })
         .collect();
     let scale = (1200 / rows.max(cols)).max(1);
     let (width, height) = ((cols * scale) as u32, (rows * scale) as u32);
@@ -367,7 +375,7 @@ fn render(
             } else if found.contains(&label) {
                 FOUND
             } else {
-                cause_of(label, false).unwrap_or(FOUND)
+                colour_of.get(&label).copied().unwrap_or(NOT_FOUND)
             };
             for y in 0..scale {
                 for x in 0..scale {
