@@ -242,23 +242,16 @@ fn grow_all(
         Ok(s) => (s.group, s.seed),
         Err((g, s, _)) => (*g, *s),
     };
-    let mut order: Vec<usize> = (0..results.len()).collect();
-    order.sort_by_key(|&i| key(&results[i]));
+    let mut ordered: Vec<(usize, _)> = results.into_iter().enumerate().collect();
+    ordered.sort_by_key(|(_, r)| key(r));
     // A plane's id is the first position, in the sorted output, of a segment on it.
-    let mut rank = vec![0u32; results.len()];
-    for (position, &i) in order.iter().enumerate() {
-        rank[i] = position as u32;
+    let mut first = vec![u32::MAX; ordered.len()];
+    for (position, (i, _)) in ordered.iter().enumerate() {
+        let p = same_plane[*i] as usize;
+        first[p] = first[p].min(position as u32);
     }
-    let mut first = vec![u32::MAX; results.len()];
-    for (i, &p) in same_plane.iter().enumerate() {
-        first[p as usize] = first[p as usize].min(rank[i]);
-    }
-    let mut slots: Vec<Option<_>> = results.into_iter().map(Some).collect();
-    let mut segments = Vec::with_capacity(slots.len());
-    for i in order {
-        let Some(result) = slots[i].take() else {
-            continue;
-        };
+    let mut segments = Vec::with_capacity(ordered.len());
+    for (i, result) in ordered {
         let mut segment = result.map_err(|(_, _, e)| e)?;
         segment.plane = first[same_plane[i] as usize];
         counts.holes += segment.polygon.holes.len();

@@ -117,9 +117,9 @@ pub struct Extraction {
     /// [`Self::plane_labels`] also gives a vertex in no polygon the plane of the one
     /// polygon whose vertices share triangles with it, when it lies within this distance
     /// of that plane (the rim of a plane, whose triangles reach over the edge onto the
-    /// next surface); `0` labels polygon vertices only. The pipeline sets it to half of
+    /// next surface); `0` labels polygon vertices only. The 3D pipelines set it to half of
     /// `z_thresh` with [`crate::Config::refine`] (the spread of points within `z_thresh`
-    /// of a plane), `0` otherwise.
+    /// of a plane), `0` otherwise; 2D and 2.5D input leave it `0`.
     pub rim_distance: f64,
     /// Per-stage counts and timings.
     pub diagnostics: Diagnostics,
@@ -442,7 +442,7 @@ impl Polylidar {
             counts.holes_too_small += holes_before - polygon.holes.len();
             polygons.push(polygon);
         }
-        self.finish(mesh, polygons, Vec::new(), counts, timings)
+        self.finish(mesh, polygons, (Vec::new(), 0.0), counts, timings)
     }
 
     /// The extraction of `polygons` found on `mesh`, post-processed as configured.
@@ -450,7 +450,7 @@ impl Polylidar {
         &self,
         mesh: HalfEdgeMesh,
         polygons: Vec<ExtractedPolygon>,
-        dominant_normals: Vec<[f64; 3]>,
+        (dominant_normals, rim_distance): (Vec<[f64; 3]>, f64),
         mut counts: Counts,
         timings: Timings,
     ) -> Result<Extraction, PolylidarError> {
@@ -460,11 +460,7 @@ impl Polylidar {
             polygons,
             postprocessed: Vec::new(),
             dominant_normals,
-            rim_distance: if self.config.refine && self.config.z_thresh > 0.0 {
-                self.config.z_thresh / 2.0
-            } else {
-                0.0
-            },
+            rim_distance,
             diagnostics: Diagnostics { counts, timings },
         };
         self.postprocess(&mut extraction)?;

@@ -173,7 +173,12 @@ impl Polylidar {
                 ExtractedPolygon::new(vertices, rings, plane, s.triangles, group, s.plane)
             })
             .collect();
-        self.finish(mesh, polygons, dominant, counts, timings)
+        let rim_distance = if config.refine && config.z_thresh > 0.0 {
+            config.z_thresh / 2.0
+        } else {
+            0.0
+        };
+        self.finish(mesh, polygons, (dominant, rim_distance), counts, timings)
     }
 
     /// Applies the configured post-processing to `extraction.polygons`, if any.
