@@ -1,12 +1,13 @@
 #!/usr/bin/env bash
-# The project's test command (README, "Try it"; .ci/run runs exactly it). Works for any
-# user on any Linux with Rust:
+# Runs the test command it is given (the README's: `bash .ci/test.sh cargo test --workspace
+# --all-features --locked`; .ci/run runs exactly it) for any user on any Linux with Rust:
 # 1. installs Mesa's software Vulkan driver for the GPU tests when it can (root or
 #    passwordless sudo on Debian/Ubuntu); otherwise prints a note and goes on, and the GPU
 #    tests skip (under CI=true a missing driver or GPU adapter is a failure);
-# 2. runs every test of the workspace;
+# 2. runs the command, its output shown as it comes;
 # 3. prints how many tests skipped and why (from target/test-skips.log, written by the
-#    test-fixtures crate), and exits with cargo's status.
+#    test-fixtures crate), then one line adding up cargo's results
+#    ("tests: 812 passed, 0 failed, 3 ignored"), and exits with the command's status.
 set -uo pipefail
 cd "$(dirname "$0")/.."
 
@@ -26,8 +27,13 @@ mkdir -p "$target"
 export POLYLIDAR_SKIP_LOG="$target/test-skips.log"
 : > "$POLYLIDAR_SKIP_LOG"
 
-cargo test --workspace --all-features --locked
-status=$?
+if [[ $# -eq 0 ]]; then
+    echo "usage: bash .ci/test.sh cargo test --workspace --all-features --locked" >&2
+    exit 2
+fi
+output="$target/test-output.log"
+"$@" 2>&1 | tee "$output"
+status=${PIPESTATUS[0]}
 
 if [[ -s "$POLYLIDAR_SKIP_LOG" ]]; then
     echo
@@ -41,4 +47,12 @@ else
     echo
     echo "no test skipped"
 fi
+awk '/^test result: / {
+        for (i = 1; i <= NF; i++) {
+            if ($(i + 1) ~ /^passed/) passed += $i
+            if ($(i + 1) ~ /^failed/) failed += $i
+            if ($(i + 1) ~ /^ignored/) ignored += $i
+        }
+    }
+    END { printf "tests: %d passed, %d failed, %d ignored\n", passed, failed, ignored }' "$output"
 exit "$status"
