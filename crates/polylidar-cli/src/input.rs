@@ -2,8 +2,8 @@
 
 use std::path::{Path, PathBuf};
 
-use polylidar::{DepthOptions, Intrinsics, OrganizedPointCloud};
-use polylidar_io::InputKind;
+use polylidar::OrganizedPointCloud;
+pub use polylidar::io::Input;
 
 use crate::args::Demo;
 use crate::run::CliError;
@@ -12,53 +12,6 @@ use crate::run::CliError;
 pub const DEMO_SHAPE_POINTS: usize = 8000;
 /// Seed and tangential noise (mdeg) of the scene demo.
 pub const DEMO_SCENE: (u64, f64) = (0, 1.0);
-
-/// A loaded input, ready for the matching pipeline.
-pub enum Input {
-    /// A 2D point set.
-    Points2d(Vec<[f64; 2]>),
-    /// An unorganized 3D cloud, for the 2.5D pipeline.
-    Cloud(Vec<[f64; 3]>),
-    /// An organized cloud (range image, RGBD frame, depth image).
-    Organized(OrganizedPointCloud),
-    /// A triangle mesh.
-    Mesh {
-        /// Vertex coordinates.
-        vertices: Vec<[f64; 3]>,
-        /// Counter-clockwise triangles.
-        triangles: Vec<[u32; 3]>,
-    },
-}
-
-impl Input {
-    /// Number of points (organized: valid pixels; mesh: vertices).
-    pub fn len(&self) -> usize {
-        match self {
-            Input::Points2d(p) => p.len(),
-            Input::Cloud(p) => p.len(),
-            Input::Organized(c) => c.num_valid(),
-            Input::Mesh { vertices, .. } => vertices.len(),
-        }
-    }
-
-    /// The name used in reports.
-    pub fn kind(&self) -> &'static str {
-        match self {
-            Input::Points2d(_) => "points_2d",
-            Input::Cloud(_) => "cloud_2.5d",
-            Input::Organized(_) => "organized",
-            Input::Mesh { .. } => "mesh",
-        }
-    }
-
-    /// `rows × cols` of an organized input.
-    pub fn grid(&self) -> Option<(usize, usize)> {
-        match self {
-            Input::Organized(c) => Some((c.rows(), c.cols())),
-            _ => None,
-        }
-    }
-}
 
 /// A loaded input with where it came from and, for generated scenes, the ground truth.
 pub struct Loaded {
@@ -78,7 +31,7 @@ pub struct Loaded {
 pub fn load(path: Option<&Path>, demo: Option<Demo>, stride: usize) -> Result<Loaded, CliError> {
     let mut loaded = match (path, demo) {
         (Some(path), _) => Loaded {
-            input: load_file(path)?,
+            input: Input::read(path)?,
             source: path.display().to_string(),
             truth: None,
         },
@@ -106,35 +59,6 @@ pub fn load(path: Option<&Path>, demo: Option<Demo>, stride: usize) -> Result<Lo
         loaded.input = Input::Organized(cloud.downsample(stride)?);
     }
     Ok(loaded)
-}
-
-fn load_file(path: &Path) -> Result<Input, CliError> {
-    match polylidar_io::read_input(path)? {
-        InputKind::Points2d(points) => Ok(Input::Points2d(points)),
-        InputKind::Cloud(cloud) if cloud.is_organized() => Ok(Input::Organized(
-            OrganizedPointCloud::new(cloud.rows, cloud.cols, cloud.points)?,
-        )),
-        InputKind::Cloud(cloud) => Ok(Input::Cloud(cloud.points)),
-        InputKind::Mesh(mesh) => Ok(Input::Mesh {
-            vertices: mesh.vertices,
-            triangles: mesh.triangles,
-        }),
-        InputKind::Depth { image, intrinsics } => {
-            let camera =
-                Intrinsics::new(intrinsics.fx, intrinsics.fy, intrinsics.ppx, intrinsics.ppy);
-            let mut options = DepthOptions::new(camera);
-            if let Some(scale) = intrinsics.depth_scale {
-                options = options.with_depth_scale(scale);
-            }
-            let cloud = OrganizedPointCloud::from_depth_image(
-                &image.data,
-                image.height,
-                image.width,
-                &options,
-            )?;
-            Ok(Input::Organized(cloud))
-        }
-    }
 }
 
 fn demo_shape() -> Result<Input, CliError> {

@@ -14,7 +14,6 @@
 
 mod args;
 mod evaluate;
-mod geojson;
 mod input;
 mod params;
 mod plot;

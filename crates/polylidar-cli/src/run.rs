@@ -2,12 +2,13 @@
 
 use std::path::{Path, PathBuf};
 
+use polylidar::output::PolygonSet;
 use polylidar::{Extraction, Polylidar, PolylidarError};
 use polylidar_io::IoError;
 
 use crate::args::{Cli, Command, ExtractArgs, InputArgs};
 use crate::input::{Input, Loaded, load};
-use crate::{evaluate, geojson, params, plot, report};
+use crate::{evaluate, params, plot, report};
 
 /// Everything that can stop a command.
 #[derive(Debug, thiserror::Error)]
@@ -117,9 +118,12 @@ fn extract(args: &ExtractArgs) -> Result<Outcome, CliError> {
     }
     let processed = !args.raw && polylidar.config().postprocess.is_some();
     if let Some(path) = &args.output {
-        let with_z = !matches!(input, Input::Points2d(_));
-        let text = geojson::feature_collection(&extraction, with_z, processed);
-        write(path, text.as_bytes())?;
+        let set = if processed {
+            PolygonSet::Postprocessed
+        } else {
+            PolygonSet::Extracted
+        };
+        polylidar::io::write_geojson(path, &extraction, input.is_3d(), set)?;
     }
     if let Some(path) = &args.plot {
         let png = plot::render(&input, &extraction, polylidar.config().up, processed).map_err(
@@ -202,42 +206,22 @@ fn inapplicable(args: &InputArgs, input: &Input) -> Vec<String> {
         .collect()
 }
 
-/// One pipeline run on the input.
+/// One pipeline run on the input ([`Polylidar::extract`]).
 pub fn run_once(polylidar: &Polylidar, input: &Input) -> Result<Extraction, PolylidarError> {
-    match input {
-        Input::Points2d(points) => polylidar.extract_2d(points),
-        Input::Cloud(points) => polylidar.extract_25d(points),
-        Input::Organized(cloud) => polylidar.extract_organized(cloud),
-        Input::Mesh {
-            vertices,
-            triangles,
-        } => polylidar.extract_mesh(vertices.clone(), triangles.clone()),
-    }
+    polylidar.extract(input)
 }
 
-/// Writes an int32 `rows × cols` label image.
+/// Writes an int32 `rows × cols` label image ([`polylidar::io::write_labels`]).
 pub fn write_labels(path: &Path, rows: usize, cols: usize, labels: &[i32]) -> Result<(), CliError> {
-    create_parent(path)?;
-    polylidar_io::write_npy_i32(path, &[rows, cols], labels)?;
-    Ok(())
+    Ok(polylidar::io::write_labels(path, rows, cols, labels)?)
 }
 
-/// Writes `bytes` to `path`, creating its directory.
+/// Writes `bytes` to `path`, creating its directory ([`polylidar::io::write_file`]).
 pub fn write(path: &Path, bytes: &[u8]) -> Result<(), CliError> {
-    create_parent(path)?;
-    std::fs::write(path, bytes).map_err(|e| CliError::Write {
-        path: path.to_path_buf(),
-        message: e.to_string(),
-    })
+    Ok(polylidar::io::write_file(path, bytes)?)
 }
 
-/// Creates the directory `path` will be written into.
+/// Creates the directory `path` will be written into ([`polylidar::io::create_parent`]).
 pub fn create_parent(path: &Path) -> Result<(), CliError> {
-    match path.parent().filter(|d| !d.as_os_str().is_empty()) {
-        Some(dir) => std::fs::create_dir_all(dir).map_err(|e| CliError::Write {
-            path: path.to_path_buf(),
-            message: e.to_string(),
-        }),
-        None => Ok(()),
-    }
+    Ok(polylidar::io::create_parent(path)?)
 }

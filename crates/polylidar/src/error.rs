@@ -43,6 +43,19 @@ pub enum PolylidarError {
     /// Post-processing failed.
     #[error(transparent)]
     Postprocess(#[from] polypost::PostError),
+    /// A file could not be read (feature `io`).
+    #[cfg(feature = "io")]
+    #[error(transparent)]
+    Io(#[from] polylidar_io::IoError),
+    /// An output file could not be written (feature `io`).
+    #[cfg(feature = "io")]
+    #[error("cannot write {}: {message}", path.display())]
+    Write {
+        /// The output path.
+        path: std::path::PathBuf,
+        /// The system's message.
+        message: String,
+    },
     /// The rayon thread pool could not be created.
     #[error("could not start {threads} worker threads: {message}")]
     ThreadPool {

@@ -37,8 +37,11 @@ mod diagnostics;
 mod error;
 pub mod explain;
 mod filter;
+#[cfg(feature = "io")]
+pub mod io;
 pub mod misses;
 mod noise;
+pub mod output;
 mod pipeline;
 mod pipeline3d;
 mod regions;
@@ -55,10 +58,12 @@ pub use error::PolylidarError;
 pub use halfedge_mesh::{HalfEdgeMesh, MeshError};
 pub use noise::{
     CORRELATION_STRIDE, MAX_AUTO_ITERATIONS, WHITE_NOISE_RATIO, auto_laplacian_iterations,
-    estimate_noise, estimate_noise_absolute, estimate_noise_correlation,
+    estimate_noise, estimate_noise_absolute, estimate_noise_correlation, estimate_noise_range_profile,
     predict_laplacian_iterations,
 };
-pub use opc_mesh::{DepthOptions, Intrinsics, OpcError, OrganizedPointCloud};
+pub use opc_mesh::{
+    DepthOptions, Intrinsics, OpcError, OrganizedPointCloud, OrganizedPointCloudView,
+};
 pub use pipeline::{
     ExtractedPolygon, Extraction, PlaneFrame, PolygonPlane, Polylidar, PostprocessedPolygon,
 };

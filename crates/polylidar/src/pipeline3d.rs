@@ -3,10 +3,13 @@
 
 use fastga::FastGa;
 use halfedge_mesh::{HalfEdgeMesh, MeshOptions};
-use opc_mesh::{OpcMeshOptions, OrganizedPointCloud};
+use std::borrow::Cow;
+
+use mesh_smooth_gpu::SmoothError;
+use opc_mesh::{OpcMeshOptions, OrganizedPointCloud, OrganizedPointCloudView};
 use polypost::{Plane, Polygon3, PostProcessor};
 
-use crate::config::LaplacianIterations;
+use crate::config::{LaplacianConfig, LaplacianIterations};
 use crate::pipeline::PolygonPlane;
 use crate::reuse;
 use crate::{
@@ -26,52 +29,75 @@ impl Polylidar {
         &self,
         cloud: &OrganizedPointCloud,
     ) -> Result<Extraction, PolylidarError> {
+        self.organized(cloud.view(), Some(cloud))
+    }
+
+    /// As [`Self::extract_organized`], on a cloud borrowed from someone else's buffer (a
+    /// C-contiguous `(H, W, 3)` float64 NumPy array, say): the points are read where they
+    /// are. The smoothing filters write their output into a new cloud as they do for owned
+    /// input, so with Laplacian smoothing this costs no more than an owned cloud; with
+    /// bilateral smoothing alone the points are copied once for the filter.
+    ///
+    /// ```
+    /// use polylidar::{Config, OrganizedPointCloudView, Polylidar};
+    /// // A tilted 30 × 30 plane, as a flat row-major buffer.
+    /// let flat: Vec<f64> = (0..900)
+    ///     .flat_map(|i| {
+    ///         let (r, c) = ((i / 30) as f64 * 0.1, (i % 30) as f64 * 0.1);
+    ///         [c, r, 2.0 + 0.2 * c]
+    ///     })
+    ///     .collect();
+    /// let view = OrganizedPointCloudView::from_flat(30, 30, &flat)?;
+    /// let config = Config::new().with_lmax(0.5).with_z_thresh(0.01).with_min_triangles(50);
+    /// let extraction = Polylidar::new(config)?.extract_organized_view(view)?;
+    /// assert_eq!(extraction.polygons.len(), 1);
+    /// # Ok::<(), polylidar::PolylidarError>(())
+    /// ```
+    ///
+    /// # Errors
+    /// As [`Self::extract_organized`].
+    pub fn extract_organized_view(
+        &self,
+        cloud: OrganizedPointCloudView<'_>,
+    ) -> Result<Extraction, PolylidarError> {
+        self.organized(cloud, None)
+    }
+
+    /// The organized pipeline on `input`, which is `owned` viewed when the caller owns it.
+    fn organized(
+        &self,
+        input: OrganizedPointCloudView<'_>,
+        owned: Option<&OrganizedPointCloud>,
+    ) -> Result<Extraction, PolylidarError> {
         self.install(|| {
             let config = self.config();
             let mut timings = Timings::default();
             let mut reuse = reuse::lock(&self.reuse);
-            let smoothed;
+            // The cloud the filters read (they take an owned cloud): the caller's, or a
+            // copy of a borrowed one; `None` without smoothing, meshing the input itself.
+            let mut cloud: Option<Cow<'_, OrganizedPointCloud>> =
+                (config.laplacian.is_some() || config.bilateral.is_some()).then(|| match owned {
+                    Some(c) => Cow::Borrowed(c),
+                    None => Cow::Owned(input.to_cloud()),
+                });
             let mut laplacian_iterations = 0;
-            let cloud = match &config.laplacian {
-                Some(l) => {
-                    let result = timings.time("laplacian", || {
-                        let iterations = match l.iterations {
-                            LaplacianIterations::Fixed(n) => n,
-                            LaplacianIterations::Auto => {
-                                crate::noise::auto_laplacian_iterations(cloud)
-                            }
-                        };
-                        if iterations == 0 {
-                            return Ok((0, None));
-                        }
-                        reuse
-                            .laplacian(cloud, &l.options(iterations))
-                            .map(|s| (iterations, Some(s)))
-                    });
-                    let (iterations, filtered) = result?;
-                    laplacian_iterations = iterations;
-                    match filtered {
-                        Some(s) => {
-                            smoothed = s;
-                            &smoothed
-                        }
-                        None => cloud,
-                    }
-                }
-                None => cloud,
-            };
-            let mut opc = timings.time("mesh", || {
-                cloud.mesh(&OpcMeshOptions::new().with_compute_normals(true))
+            if let (Some(l), Some(c)) = (&config.laplacian, &mut cloud) {
+                laplacian_iterations = timings.time("laplacian", || laplacian(&mut reuse, l, c))?;
+            }
+            let options = OpcMeshOptions::new().with_compute_normals(true);
+            let mut opc = timings.time("mesh", || match &cloud {
+                Some(c) => c.mesh(&options),
+                None => input.mesh(&options),
             })?;
-            if let Some(b) = &config.bilateral {
-                timings.time("bilateral", || {
-                    reuse.bilateral(cloud, &b.options(), &mut opc)
-                })?;
+            if let (Some(b), Some(c)) = (&config.bilateral, &cloud) {
+                timings.time("bilateral", || reuse.bilateral(c, &b.options(), &mut opc))?;
             }
             // `extract_planes` takes the lock again for FastGA.
             drop(reuse);
             let counts = Counts {
-                points: cloud.num_valid(),
+                points: cloud
+                    .as_ref()
+                    .map_or_else(|| input.num_valid(), |c| c.num_valid()),
                 laplacian_iterations,
                 ..Counts::default()
             };
@@ -234,4 +260,29 @@ impl Polylidar {
         let found = fastga.detect(normals)?;
         Ok(found.normals.iter().map(|d| d.normal).collect())
     }
+}
+
+/// Runs the Laplacian filter `l` on `cloud` (in place when it is owned), returning the
+/// passes run: the fixed count, or the one predicted from the cloud's noise.
+fn laplacian(
+    reuse: &mut reuse::Reusable,
+    l: &LaplacianConfig,
+    cloud: &mut Cow<'_, OrganizedPointCloud>,
+) -> Result<u32, SmoothError> {
+    let iterations = match l.iterations {
+        LaplacianIterations::Fixed(n) => n,
+        LaplacianIterations::Auto => crate::noise::auto_laplacian_iterations(cloud),
+    };
+    if iterations == 0 {
+        return Ok(0);
+    }
+    let options = l.options(iterations);
+    match cloud {
+        Cow::Owned(c) => reuse.laplacian_in_place(c, &options)?,
+        Cow::Borrowed(c) => {
+            let source: &OrganizedPointCloud = c;
+            *cloud = Cow::Owned(reuse.laplacian(source, &options)?);
+        }
+    }
+    Ok(iterations)
 }

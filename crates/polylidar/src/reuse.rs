@@ -53,6 +53,22 @@ impl Reusable {
         }
     }
 
+    /// The Laplacian filter of `cloud`, overwriting it (on a kept smoother for the CPU
+    /// backends; the GPU backend filters into a new cloud that replaces it).
+    pub fn laplacian_in_place(
+        &mut self,
+        cloud: &mut OrganizedPointCloud,
+        options: &LaplacianOptions,
+    ) -> Result<(), SmoothError> {
+        match options.backend {
+            Backend::Gpu => {
+                *cloud = mesh_smooth_gpu::laplacian_filter(cloud, options)?;
+                Ok(())
+            }
+            cpu => self.cpu(cpu)?.laplacian_in_place(cloud, options),
+        }
+    }
+
     /// The bilateral normal filter of `cloud`'s implicit mesh, written into `opc`'s
     /// triangle normals.
     pub fn bilateral(
