@@ -23,7 +23,10 @@
 //!    noisier segment's own spread, or below [`ADJACENT_FLOOR`] of `z_thresh`; a ridge
 //!    between two planes makes the common plane fit much worse.
 //! 4. **Strips dropped**: a segment keeps only if [`MIN_INTERIOR_SHARE`] of its
-//!    triangles have all three neighbours in it.
+//!    triangles have all three neighbours in it, and [`THIN_INTERIOR_SHARE`] if it is
+//!    elongated (width over length of its in-plane spread below [`STRIP_ASPECT`]): a
+//!    band a few triangles wide along a smoothed crease is not a plane, and inside a
+//!    large plane it would make Hoover's scoring count that plane as split.
 //!
 //! 5. **One plane, several polygons** ([`coplanar`]): after polygon extraction, segments
 //!    that no edge connects but whose normals are within [`COPLANAR_COS`] and that pass
@@ -53,6 +56,14 @@ pub const ABSORB_COS: f64 = 0.7;
 /// edge or a crease are not planes, and a strip lying inside a large plane would make
 /// Hoover's scoring count that plane as split.
 pub const MIN_INTERIOR_SHARE: f64 = 0.6;
+
+/// A segment with less than this share of interior triangles (a band about four triangles
+/// wide) is dropped too when it is elongated ([`STRIP_ASPECT`]): the rounded crease between
+/// two walls after smoothing, not a plane.
+pub const THIN_INTERIOR_SHARE: f64 = 0.8;
+
+/// Width over length of the in-plane spread below which a thin segment counts as a strip.
+pub const STRIP_ASPECT: f64 = 0.25;
 
 /// Two segments merge if the merged plane's RMS distance is at most this factor times the
 /// larger of their own.
@@ -134,6 +145,46 @@ impl PlaneSums {
     /// The triangles' total area.
     fn area(&self) -> f64 {
         self.weight / 2.0
+    }
+
+    /// Width over length of the triangles' spread within `plane` (√ of the smaller over
+    /// the larger in-plane variance): near 0 for a strip, 1 for a disc or a square.
+    fn aspect(&self, plane: &Plane) -> f64 {
+        if self.weight <= 0.0 {
+            return 0.0;
+        }
+        let w = self.weight;
+        let c = scale(self.first, 1.0 / w);
+        let s = &self.second;
+        let cov = [
+            s[0] / w - c[0] * c[0],
+            s[1] / w - c[0] * c[1],
+            s[2] / w - c[0] * c[2],
+            s[3] / w - c[1] * c[1],
+            s[4] / w - c[1] * c[2],
+            s[5] / w - c[2] * c[2],
+        ];
+        // The covariance projected onto the plane, (I − nnᵀ) C (I − nnᵀ), has eigenvalues
+        // 0, a, b: a + b is its trace and a·b the sum of its principal 2 × 2 minors.
+        let n = plane.normal;
+        let cn = [
+            cov[0] * n[0] + cov[1] * n[1] + cov[2] * n[2],
+            cov[1] * n[0] + cov[3] * n[1] + cov[4] * n[2],
+            cov[2] * n[0] + cov[4] * n[1] + cov[5] * n[2],
+        ];
+        let ncn = dot(n, cn);
+        let p =
+            |i: usize, j: usize, cij: f64| cij - n[i] * cn[j] - cn[i] * n[j] + n[i] * n[j] * ncn;
+        let (xx, xy, xz) = (p(0, 0, cov[0]), p(0, 1, cov[1]), p(0, 2, cov[2]));
+        let (yy, yz, zz) = (p(1, 1, cov[3]), p(1, 2, cov[4]), p(2, 2, cov[5]));
+        let trace = xx + yy + zz;
+        let minors = xx * yy - xy * xy + xx * zz - xz * xz + yy * zz - yz * yz;
+        let root = (trace * trace - 4.0 * minors).max(0.0).sqrt();
+        let (large, small) = ((trace + root) / 2.0, (trace - root) / 2.0);
+        if large <= 0.0 {
+            return 0.0;
+        }
+        (small.max(0.0) / large).sqrt()
     }
 
     /// Root mean square distance of the triangle centroids to `plane`.
@@ -334,7 +385,10 @@ pub(crate) fn refine(
         .zip(&inside)
         .zip(&sums)
         .map(|(((_, tris), &inside), sums)| {
-            big_enough(tris.len(), sums) && inside as f64 >= MIN_INTERIOR_SHARE * tris.len() as f64
+            let share = inside as f64 / tris.len().max(1) as f64;
+            let strip = share < THIN_INTERIOR_SHARE
+                && sums.plane().is_some_and(|p| sums.aspect(&p) < STRIP_ASPECT);
+            big_enough(tris.len(), sums) && share >= MIN_INTERIOR_SHARE && !strip
         })
         .collect();
     let mut index = vec![NONE; segments.len()];

@@ -88,6 +88,32 @@ fn planes_that_are_no_dominant_normal_are_grown() {
 }
 
 #[test]
+fn a_bevel_strip_along_a_crease_is_no_plane() {
+    // A floor for x ≤ 14, a 60° ramp for x ≥ 17, and between them a 30° bevel three cells
+    // wide and thirty long: what smoothing makes of a sharp crease. It is too thin and too
+    // elongated to be a plane, though it has enough triangles and no dominant normal
+    // explains it.
+    let (t30, t60) = (30f64.to_radians().tan(), 60f64.to_radians().tan());
+    let mesh = height_field(30, |x, _| {
+        if x <= 14.0 {
+            0.0
+        } else if x <= 17.0 {
+            (x - 14.0) * t30
+        } else {
+            3.0 * t30 + (x - 17.0) * t60
+        }
+    });
+    let bevel = triangles_where(&mesh, |p| (14.0..=17.0).contains(&p[0]));
+    assert!(bevel.len() >= 10 * config(true).min_triangles);
+
+    let refined = segment(&mesh, &[UP], &config(true)).unwrap();
+    let found: Vec<Vec<u32>> = refined.segments.iter().map(sorted).collect();
+    let floor = triangles_where(&mesh, |p| p[0] <= 14.0);
+    let ramp = triangles_where(&mesh, |p| p[0] >= 17.0);
+    assert_eq!(found, vec![floor, ramp]);
+}
+
+#[test]
 fn a_plane_cut_into_bands_by_z_thresh_is_merged() {
     // A plane 10° off the dominant normal: along x its offset drifts by 0.18 a cell, so
     // the paper's growth (within 0.3 of the seed) cuts it into narrow bands.

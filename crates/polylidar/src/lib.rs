@@ -58,7 +58,7 @@ pub use error::PolylidarError;
 pub use halfedge_mesh::{HalfEdgeMesh, MeshError};
 pub use noise::{
     CORRELATION_STRIDE, MAX_AUTO_ITERATIONS, WHITE_NOISE_RATIO, auto_laplacian_iterations,
-    estimate_noise, estimate_noise_absolute, estimate_noise_correlation, estimate_noise_range_profile,
+    estimate_noise, estimate_noise_absolute, estimate_noise_correlation,
     predict_laplacian_iterations,
 };
 pub use opc_mesh::{
