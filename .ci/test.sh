@@ -5,9 +5,14 @@
 #    passwordless sudo on Debian/Ubuntu); otherwise prints a note and goes on, and the GPU
 #    tests skip (under CI=true a missing driver or GPU adapter is a failure);
 # 2. runs the command, its output shown as it comes;
-# 3. prints how many tests skipped and why (from target/test-skips.log, written by the
-#    test-fixtures crate), then one line adding up cargo's results
-#    ("tests: 812 passed, 0 failed, 3 ignored"), and exits with the command's status.
+# 3. builds the Python package's wheel (crates/polylidar-py, maturin) into a fresh virtual
+#    environment under the target folder and runs its pytest suite (.ci/python-tests.sh);
+#    when Python, venv or pip cannot be set up it prints a note and skips them (under
+#    CI=true that is a failure);
+# 4. prints how many tests skipped and why (from target/test-skips.log, written by the
+#    test-fixtures crate and the pytest suite), then one line adding up cargo's and
+#    pytest's results ("tests: 812 passed, 0 failed, 3 ignored"; pytest's skips count as
+#    ignored), and exits with the first failing status.
 set -uo pipefail
 cd "$(dirname "$0")/.."
 
@@ -35,6 +40,12 @@ output="$target/test-output.log"
 "$@" 2>&1 | tee "$output"
 status=${PIPESTATUS[0]}
 
+python_output="$target/python-test-output.log"
+: > "$python_output"
+CARGO_TARGET_DIR="$target" bash .ci/python-tests.sh "$python_output"
+python_status=$?
+[[ $status -eq 0 ]] && status=$python_status
+
 if [[ -s "$POLYLIDAR_SKIP_LOG" ]]; then
     echo
     awk -F '\t' '
@@ -54,5 +65,20 @@ awk '/^test result: / {
             if ($(i + 1) ~ /^ignored/) ignored += $i
         }
     }
-    END { printf "tests: %d passed, %d failed, %d ignored\n", passed, failed, ignored }' "$output"
+    END { printf "%d %d %d\n", passed, failed, ignored }' "$output" > "$target/test-counts"
+# pytest's last line: "31 passed, 2 skipped in 12.3s".
+python_counts=$(awk '/^(=+ )?[0-9]+ (passed|failed|skipped|errors?|deselected)[, ].* in [0-9.]+s/ {
+        line = $0; p = f = s = 0
+        if (match(line, /[0-9]+ passed/)) p = substr(line, RSTART, RLENGTH) + 0
+        if (match(line, /[0-9]+ failed/)) f = substr(line, RSTART, RLENGTH) + 0
+        if (match(line, /[0-9]+ errors?/)) f += substr(line, RSTART, RLENGTH) + 0
+        if (match(line, /[0-9]+ skipped/)) s = substr(line, RSTART, RLENGTH) + 0
+    }
+    END { printf "%d %d %d\n", p, f, s }' "$python_output")
+read -r rp rf ri < "$target/test-counts"
+read -r pp pf ps <<< "$python_counts"
+if [[ -s "$python_output" ]]; then
+    echo "python: $pp passed, $pf failed, $ps skipped (pytest crates/polylidar-py/tests)"
+fi
+echo "tests: $((rp + pp)) passed, $((rf + pf)) failed, $((ri + ps)) ignored"
 exit "$status"
