@@ -61,7 +61,7 @@ pub fn build(
             let mut known: Vec<&str> = target.keys().map(String::as_str).collect();
             known.extend(["norm_thresh_min", "task_threads"]);
             return Err(PyTypeError::new_err(format!(
-                "Polylidar() got an unexpected keyword argument {key:?}; known: {}",
+                "Polylidar() got an unexpected keyword argument '{key}'; known: {}",
                 known.join(", ")
             )));
         };
