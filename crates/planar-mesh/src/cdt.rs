@@ -1,0 +1,121 @@
+//! Constrained Delaunay triangulation (`spade`) of a polygon, or of the band between a
+//! polygon and a rectilinear interior outline, keeping the triangles in between.
+//!
+//! Triangles are classified by a flood fill from the outer face: crossing a ring edge
+//! flips "inside the polygon", crossing an outline edge flips "inside the interior". A
+//! triangle is kept when it is inside the polygon and not inside the interior.
+
+use spade::handles::FixedVertexHandle;
+use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
+
+use crate::MeshError;
+
+type Cdt = ConstrainedDelaunayTriangulation<Point2<f64>>;
+
+/// What to triangulate: distinct points; ring edges (polygon shell and holes) and outline
+/// edges (between points at index `first_outline` and above) as constraints.
+pub(crate) struct CdtInput<'a> {
+    pub points: &'a [[f64; 2]],
+    pub ring_edges: &'a [[u32; 2]],
+    pub outline_edges: &'a [[u32; 2]],
+    pub first_outline: u32,
+}
+
+/// The kept triangles (counter-clockwise) and the points the triangulation added where
+/// constraint edges crossed (only for self-intersecting input), numbered from
+/// `points.len()`.
+pub(crate) struct CdtOutput {
+    pub triangles: Vec<[u32; 3]>,
+    pub added: Vec<[f64; 2]>,
+}
+
+/// Triangulates `input`.
+///
+/// # Errors
+/// [`MeshError::Triangulation`] when `spade` rejects a point (non-finite or out of range).
+pub(crate) fn triangulate(input: &CdtInput<'_>) -> Result<CdtOutput, MeshError> {
+    let vertices: Vec<Point2<f64>> = input
+        .points
+        .iter()
+        .map(|p| Point2::new(p[0], p[1]))
+        .collect();
+    let edges: Vec<[usize; 2]> = input
+        .ring_edges
+        .iter()
+        .chain(input.outline_edges)
+        .filter(|e| e[0] != e[1])
+        .map(|e| [e[0] as usize, e[1] as usize])
+        .collect();
+    let mut conflicts = 0usize;
+    let cdt = Cdt::try_bulk_load_cdt(vertices.clone(), edges.clone(), |_| conflicts += 1)
+        .map_err(|e| MeshError::Triangulation(e.to_string()))?;
+    let cdt = if conflicts == 0 && cdt.num_vertices() == vertices.len() {
+        cdt
+    } else {
+        // Crossing constraints (a ring that intersects itself after projection onto the
+        // plane): insert them one by one, split where they cross.
+        let mut cdt = Cdt::bulk_load_cdt(vertices, Vec::new())
+            .map_err(|e| MeshError::Triangulation(e.to_string()))?;
+        for [a, b] in edges {
+            cdt.add_constraint_and_split(
+                FixedVertexHandle::from_index(a),
+                FixedVertexHandle::from_index(b),
+                |p| p,
+            );
+        }
+        cdt
+    };
+    Ok(CdtOutput {
+        triangles: keep_between(&cdt, input),
+        added: cdt
+            .vertices()
+            .skip(input.points.len())
+            .map(|v| [v.position().x, v.position().y])
+            .collect(),
+    })
+}
+
+/// The inner faces inside the rings and outside the outline (flood fill with parities).
+fn keep_between(cdt: &Cdt, input: &CdtInput<'_>) -> Vec<[u32; 3]> {
+    let first = input.first_outline as usize;
+    let original = input.points.len();
+    let is_outline = |a: usize, b: usize| a >= first && b >= first && a < original && b < original;
+    // State per face (index 0 = outer): bit 0 inside polygon, bit 1 inside interior, bit 2 seen.
+    let mut state = vec![0u8; cdt.num_inner_faces() + 1];
+    let outer = cdt.outer_face();
+    state[outer.fix().index()] = 4;
+    let mut stack = vec![outer.fix()];
+    let mut edges_of = Vec::with_capacity(8);
+    while let Some(f) = stack.pop() {
+        let face = cdt.face(f);
+        edges_of.clear();
+        match face.as_inner() {
+            Some(inner) => edges_of.extend(inner.adjacent_edges()),
+            None => edges_of.extend(cdt.convex_hull()),
+        }
+        let here = state[f.index()];
+        for e in &edges_of {
+            // Hull edges may come with either face on their left.
+            let next = if e.face().fix() == f {
+                e.rev().face()
+            } else {
+                e.face()
+            };
+            let n = next.fix().index();
+            if state[n] & 4 != 0 {
+                continue;
+            }
+            let mut s = here & 3;
+            if e.as_undirected().data().is_constraint_edge() {
+                let [a, b] = e.vertices().map(|v| v.fix().index());
+                s ^= if is_outline(a, b) { 2 } else { 1 };
+            }
+            state[n] = s | 4;
+            stack.push(next.fix());
+        }
+    }
+    cdt.inner_faces()
+        .filter(|f| state[f.fix().index()] & 3 == 1)
+        .map(|f| f.vertices().map(|v| v.fix().index() as u32))
+        .collect()
+}
