@@ -108,7 +108,9 @@ pub fn read_input(path: impl AsRef<Path>) -> Result<InputKind, IoError> {
             }
             InputKind::Depth { image, intrinsics }
         }
-        Format::RealSenseMetadata | Format::Unknown => unusable(path, "metadata file")?,
+        Format::RealSenseMetadata | Format::ColorImage | Format::Unknown => {
+            unusable(path, "metadata file")?
+        }
     })
 }
 

@@ -22,6 +22,8 @@ pub enum Format {
     Obj,
     /// ASPRS `.las` / `.laz`.
     Las,
+    /// An RGB picture (8-bit PNG or JPEG), the colour of an RGB-D frame.
+    ColorImage,
     /// Not known yet (dispatch by extension failed).
     Unknown,
 }
@@ -37,6 +39,7 @@ impl fmt::Display for Format {
             Format::Ply => "PLY",
             Format::Obj => "OBJ",
             Format::Las => "LAS/LAZ",
+            Format::ColorImage => "colour picture",
             Format::Unknown => "input",
         })
     }

@@ -10,6 +10,7 @@
 //! | PLY ascii / binary (both byte orders) | [`read_ply`] | [`write_ply`] (binary little-endian) |
 //! | Wavefront OBJ (`v`, `f`) | [`read_obj`] | — |
 //! | LAS / LAZ (via the `las` crate), with the length unit of the header ([`LengthUnit`]) | [`read_las`], [`read_las_unit`] | — |
+//! | colour: RGB pictures (8/16-bit PNG, JPEG) of RGB-D frames, PCD `rgb`/`rgba`, PLY `red green blue` | [`read_color_image`] (+ [`color_path_for`]), [`read_pcd_colors`], [`read_ply_colors`] | — |
 //!
 //! [`read_input`] picks the reader by extension and returns an [`InputKind`]. Every reader
 //! has a `parse_*` twin working on bytes in memory. Organized clouds keep their grid
@@ -42,6 +43,7 @@
 
 mod auto;
 mod cloud;
+mod color;
 mod colorized;
 mod csv;
 mod depth;
@@ -56,6 +58,10 @@ mod units;
 
 pub use auto::{InputKind, format_of, read_input};
 pub use cloud::{LasCloud, MeshData, MeshStats, PointCloud, PointTable};
+pub use color::{
+    ColorImage, color_path_for, parse_color_image, parse_pcd_colors, read_color_image,
+    read_pcd_colors,
+};
 pub use colorized::{ColorizedDepth, parse_colorized_depth_png, read_colorized_depth_png};
 pub use csv::{parse_csv_points, read_csv_points};
 pub use depth::{
@@ -75,7 +81,8 @@ pub use pcd::{
     write_pcd, write_pcd_with_options,
 };
 pub use ply::{
-    encode_ply, parse_ply, parse_ply_with_stats, read_ply, read_ply_with_stats, write_ply,
+    encode_ply, parse_ply, parse_ply_colors, parse_ply_with_stats, read_ply, read_ply_colors,
+    read_ply_with_stats, write_ply,
 };
 pub use units::{LengthUnit, UnknownUnit, geotiff_linear_unit, wkt_linear_unit};
 

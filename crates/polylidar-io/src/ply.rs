@@ -305,6 +305,84 @@ fn parse(bytes: &[u8]) -> KindResult<(MeshData, MeshStats)> {
     fan(vertices, &corners, &face_starts)
 }
 
+/// The colour of every vertex of a PLY file from its `red`, `green` and `blue` properties
+/// (`diffuse_` prefixed or `r g b` also taken; integer types scaled from their range,
+/// floats from 0–1), or `None` when it has none.
+///
+/// # Errors
+/// As [`read_ply`].
+pub fn read_ply_colors(path: impl AsRef<Path>) -> Result<Option<Vec<[u8; 3]>>, IoError> {
+    let path = path.as_ref();
+    parse_ply_colors(&read_file(path, Format::Ply)?).map_err(|e| e.at(path))
+}
+
+/// Parses the vertex colours of PLY bytes; see [`read_ply_colors`].
+///
+/// # Errors
+/// As [`parse_ply`].
+pub fn parse_ply_colors(bytes: &[u8]) -> Result<Option<Vec<[u8; 3]>>, IoError> {
+    vertex_colors(bytes).map_err(|k| IoError::new(Format::Ply, k))
+}
+
+fn vertex_colors(bytes: &[u8]) -> KindResult<Option<Vec<[u8; 3]>>> {
+    let header = parse_header(bytes)?;
+    let mut body = Body {
+        bytes,
+        pos: header.body_start,
+        encoding: header.encoding,
+    };
+    let room = bytes.len() - header.body_start;
+    for element in &header.elements {
+        if element.name != "vertex" {
+            if !element.properties.is_empty() && element.count > 0 {
+                skip_element(&mut body, element)?;
+            }
+            continue;
+        }
+        let find = |names: [&str; 3]| {
+            names.iter().find_map(|n| {
+                element
+                    .properties
+                    .iter()
+                    .position(|p| p.name == *n && p.list.is_none())
+            })
+        };
+        let slots = [
+            find(["red", "diffuse_red", "r"]),
+            find(["green", "diffuse_green", "g"]),
+            find(["blue", "diffuse_blue", "b"]),
+        ];
+        let [Some(r), Some(g), Some(b)] = slots else {
+            return Ok(None);
+        };
+        let slots = [r, g, b];
+        let mut colors = Vec::with_capacity(element.count.min(room));
+        for _ in 0..element.count {
+            let mut c = [0u8; 3];
+            for (k, p) in element.properties.iter().enumerate() {
+                let value = read_property(&mut body, p)?;
+                if let Some(channel) = slots.iter().position(|&s| s == k) {
+                    c[channel] = channel_byte(value, p.ty);
+                }
+            }
+            colors.push(c);
+        }
+        return Ok(Some(colors));
+    }
+    Ok(None)
+}
+
+/// A colour channel value of type `ty` as a byte.
+fn channel_byte(value: f64, ty: Ty) -> u8 {
+    let scaled = match ty {
+        Ty::F32 | Ty::F64 => value * 255.0,
+        Ty::U16 | Ty::I16 => value / 257.0,
+        Ty::U32 | Ty::I32 => value / 16_843_009.0,
+        Ty::U8 | Ty::I8 => value,
+    };
+    scaled.round().clamp(0.0, 255.0) as u8
+}
+
 fn read_vertices(
     body: &mut Body<'_>,
     element: &Element,

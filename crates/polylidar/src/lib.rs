@@ -18,7 +18,8 @@
 //!   its plane, and optional post-processing into valid simplified polygons.
 //!
 //! Each result carries per-stage [`Counts`] and [`Timings`] so that an empty result can be
-//! explained.
+//! explained. [`Extraction::planar_meshes`] turns the planes into light, optionally
+//! textured triangle meshes ([`planar_mesh`], Ma et al. 2013).
 //!
 //! ```
 //! use polylidar::{Config, Polylidar};
@@ -39,6 +40,7 @@ pub mod explain;
 mod filter;
 #[cfg(feature = "io")]
 pub mod io;
+mod mesh;
 pub mod misses;
 mod noise;
 pub mod output;
@@ -56,6 +58,7 @@ pub use config::{
 pub use diagnostics::{Counts, Diagnostics, Timings};
 pub use error::PolylidarError;
 pub use halfedge_mesh::{HalfEdgeMesh, MeshError};
+pub use mesh::PlanarMeshes;
 pub use noise::{
     CORRELATION_STRIDE, MAX_AUTO_ITERATIONS, WHITE_NOISE_RATIO, auto_laplacian_iterations,
     estimate_noise, estimate_noise_absolute, estimate_noise_correlation,
@@ -67,6 +70,9 @@ pub use opc_mesh::{
 pub use pipeline::{
     ExtractedPolygon, Extraction, PlaneFrame, PolygonPlane, Polylidar, PostprocessedPolygon,
 };
+/// Planar simplification and texturing (Ma et al. 2013), re-exported: see
+/// [`Extraction::planar_meshes`].
+pub use planar_mesh;
 
 #[doc = include_str!("../README.md")]
 #[cfg(doctest)]

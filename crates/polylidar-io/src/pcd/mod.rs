@@ -70,6 +70,36 @@ fn parse_xyz(bytes: &[u8]) -> KindResult<PointCloud> {
     })
 }
 
+/// The packed `rgb` / `rgba` colours of every point, or `None` without such a field.
+/// Binary data is read as the field's raw 32 bits (a float's bits may be a NaN pattern,
+/// which a float conversion would not keep); ascii floats through their `f32` bits.
+pub(crate) fn packed_colors(bytes: &[u8]) -> KindResult<Option<Vec<[u8; 3]>>> {
+    let mut header = header::parse_header(bytes)?;
+    let Some(field) = header
+        .fields
+        .iter()
+        .position(|f| (f.name == "rgb" || f.name == "rgba") && f.ty.size() == 4)
+    else {
+        return Ok(None);
+    };
+    let float = header.fields[field].ty == ScalarType::F32;
+    if header.encoding != PcdEncoding::Ascii {
+        header.fields[field].ty = ScalarType::U32;
+    }
+    let data = prepare(&header, bytes)?;
+    let mut colors = vec![[0u8; 3]; header.points()];
+    let ascii_float = float && header.encoding == PcdEncoding::Ascii;
+    data.decode(&[Wanted { field, element: 0 }], |_, i, v| {
+        let bits = if ascii_float {
+            (v as f32).to_bits()
+        } else {
+            v as u32
+        };
+        colors[i] = crate::color::unpack(bits);
+    })?;
+    Ok(Some(colors))
+}
+
 /// Parses only the header of PCD bytes.
 ///
 /// # Errors
