@@ -123,3 +123,69 @@ fn a_reused_cpu_smoother_matches_fresh_calls() {
     }
     assert!(CpuSmoother::new(Backend::Gpu).is_err());
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(24))]
+
+    /// Per-pixel pass counts against uniform runs: pixels with `a` passes take exactly the
+    /// uniform `a`-pass values (every pixel moves in the first `a` passes, so they are
+    /// computed from the same numbers); pixels with `b` passes far enough from the others
+    /// that the frozen ones cannot reach them within `b` passes take the uniform `b`-pass
+    /// values; one count everywhere is the uniform filter; 0 leaves a pixel bit for bit.
+    #[test]
+    fn per_pixel_passes_match_uniform_runs(
+        rows in 8usize..40, cols in 24usize..60, seed in any::<u64>(), holes in 0.0f64..0.3,
+        half in 1u32..3, a in 0u8..3, extra in 1u8..4, split in 0.2f64..0.8,
+        threads in 1usize..4,
+    ) {
+        use mesh_smooth_gpu::CpuSmoother;
+        let b = a + extra;
+        let cloud = wavy_cloud(rows, cols, seed, 0.01, holes);
+        let options = LaplacianOptions::new().with_kernel(2 * half + 1).with_lambda(0.8);
+        let boundary = (split * cols as f64) as usize;
+        let passes: Vec<u8> =
+            (0..rows * cols).map(|i| if i % cols < boundary { a } else { b }).collect();
+        let mut smoother = CpuSmoother::new(Backend::CpuParallel).expect("cpu");
+        let mut mixed = cloud.clone();
+        pool(threads)
+            .install(|| smoother.laplacian_in_place_per_pixel(&mut mixed, &options, &passes))
+            .expect("valid");
+        let uniform = |n: u8| {
+            mesh_smooth_gpu::laplacian_filter(&cloud, &options.with_iterations(u32::from(n)))
+                .expect("valid")
+        };
+        let (low, high) = (uniform(a), uniform(b));
+        // Frozen pixels influence others from the pass after they stop: b − a passes of
+        // reach, `half` columns each.
+        let reach = (usize::from(b - a) + 1) * half as usize;
+        for (i, p) in mixed.points().iter().enumerate() {
+            let c = i % cols;
+            let bits_of = |q: &[f64; 3]| q.map(f64::to_bits);
+            if c < boundary {
+                prop_assert_eq!(bits_of(p), bits_of(&low.points()[i]), "pixel {}", i);
+            } else if c >= boundary + reach {
+                prop_assert_eq!(bits_of(p), bits_of(&high.points()[i]), "pixel {}", i);
+            }
+        }
+        let mut same = cloud.clone();
+        smoother
+            .laplacian_in_place_per_pixel(&mut same, &options, &vec![b; rows * cols])
+            .expect("valid");
+        prop_assert_eq!(bits(same.points()), bits(high.points()));
+    }
+}
+
+#[test]
+fn per_pixel_passes_need_one_count_per_point() {
+    let mut smoother = mesh_smooth_gpu::CpuSmoother::new(Backend::Cpu).unwrap();
+    let mut cloud = wavy_cloud(5, 5, 1, 0.01, 0.0);
+    let before = bits(cloud.points());
+    let error = smoother
+        .laplacian_in_place_per_pixel(&mut cloud, &LaplacianOptions::new(), &[1; 24])
+        .unwrap_err();
+    assert!(matches!(
+        error,
+        SmoothError::InvalidParameter { name: "passes", .. }
+    ));
+    assert_eq!(bits(cloud.points()), before);
+}

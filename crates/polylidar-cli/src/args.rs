@@ -47,8 +47,9 @@ pub struct InputArgs {
     #[arg(long, value_enum, num_args = 0..=1, default_missing_value = "scene")]
     pub demo: Option<Demo>,
     /// Start from a named parameter preset of the papers: rgbd, synpeb (the authors' fixed
-    /// 8 Laplacian iterations), synpeb-auto (iterations from the measured noise), rooftop,
-    /// kitti, mesh-basement, mesh-mainfloor. Their lengths are metres, converted into
+    /// 8 Laplacian iterations), synpeb-auto (iterations from the measured noise, for range
+    /// scanners), rgbd-auto (the same, passes growing with range, for depth cameras),
+    /// rooftop, kitti, mesh-basement, mesh-mainfloor. Their lengths are metres, converted into
     /// `--units`. Default: none (the defaults below; `synpeb-auto` for `--demo scene`).
     #[arg(long, value_name = "NAME")]
     pub preset: Option<String>,

@@ -76,6 +76,15 @@ pub struct LaplacianConfig {
     /// per cloud from its estimated noise ([`crate::estimate_noise`] through the trained
     /// linear model of [`crate::predict_laplacian_iterations`]).
     pub iterations: LaplacianIterations,
+    /// How the passes grow with range, for sensors whose noise relative to the point
+    /// spacing grows with it (an RGB-D camera's depth error grows with z², its spacing
+    /// with z: exponent 1). A pixel at range `r` takes `n · (r / r_median)^e` passes,
+    /// rounded and clamped to `1..=max(n, MAX_AUTO_ITERATIONS)`, where `n` is the count
+    /// [`Self::iterations`] fixes or predicts and `r_median` the median range of the
+    /// cloud's points; range is the distance from the origin of the cloud's frame (the
+    /// sensor, for clouds in camera coordinates). 0 (the default): `n` passes everywhere.
+    /// In `[0, 4]`. The GPU backend runs `n` passes everywhere.
+    pub range_exponent: f64,
     /// Where to run.
     pub backend: SmoothingBackend,
 }
@@ -88,6 +97,7 @@ impl Default for LaplacianConfig {
             kernel: o.kernel,
             lambda: o.lambda,
             iterations: LaplacianIterations::Fixed(o.iterations),
+            range_exponent: 0.0,
             backend: o.backend.into(),
         }
     }
@@ -104,6 +114,9 @@ impl LaplacianConfig {
             .with_backend(self.backend.into())
     }
 }
+
+/// Largest [`LaplacianConfig::range_exponent`].
+pub const MAX_RANGE_EXPONENT: f64 = 4.0;
 
 /// How many Laplacian passes run: a fixed count, or `Auto`, predicted per cloud from its
 /// estimated point noise (the 3D paper's SynPEB setting, §9.3.2 and Table 9: "iterations =
@@ -349,10 +362,11 @@ impl PostprocessSection {
 }
 
 /// Names accepted by [`Config::preset`].
-pub const PRESETS: [&str; 7] = [
+pub const PRESETS: [&str; 8] = [
     "rgbd",
     "synpeb",
     "synpeb-auto",
+    "rgbd-auto",
     "rooftop",
     "kitti",
     "mesh-basement",
@@ -490,6 +504,10 @@ impl Config {
     ///   plane id for disjoint pieces), `min_triangles` 250 and `min_area` 0.015 m² (a
     ///   region with fewer triangles is kept when it is that large: far planes, and
     ///   lower resolutions).
+    /// * `rgbd-auto`: the adaptive detector for depth cameras: `synpeb-auto` with the
+    ///   Laplacian passes growing with range ([`LaplacianConfig::range_exponent`] 1), as
+    ///   the depth error of stereo and structured-light cameras, relative to the point
+    ///   spacing, does.
     /// * `rooftop` (Table 3): Laplacian λ 1, 2 it; bilateral σ 0.1 / 0.1, 2 it; normal =
     ///   `up`; min_triangles 200, norm 0.94, lmax 0.9, hole vertices 8, z 0.2; post α 0.1,
     ///   β_neg 0.1, β_pos 0, γ 16, δ 0.5.
@@ -532,30 +550,34 @@ impl Config {
                 postprocess: post(0.02, 0.02, 0.005, 0.1, 0.1),
                 ..base
             },
-            "synpeb" | "synpeb-auto" => Self {
-                laplacian: Some(LaplacianConfig {
-                    kernel: 5,
-                    iterations: if name == "synpeb-auto" {
-                        LaplacianIterations::Auto
-                    } else {
-                        LaplacianIterations::Fixed(8)
+            "synpeb" | "synpeb-auto" | "rgbd-auto" => {
+                let adaptive = name != "synpeb";
+                Self {
+                    laplacian: Some(LaplacianConfig {
+                        kernel: 5,
+                        iterations: if adaptive {
+                            LaplacianIterations::Auto
+                        } else {
+                            LaplacianIterations::Fixed(8)
+                        },
+                        range_exponent: if name == "rgbd-auto" { 1.0 } else { 0.0 },
+                        ..LaplacianConfig::default()
+                    }),
+                    bilateral: Some(BilateralConfig::default()),
+                    fastga: FastGaSection {
+                        min_cluster_weight: 0.01,
+                        ..fastga(5, 3.0, 0.1)
                     },
-                    ..LaplacianConfig::default()
-                }),
-                bilateral: Some(BilateralConfig::default()),
-                fastga: FastGaSection {
-                    min_cluster_weight: 0.01,
-                    ..fastga(5, 3.0, 0.1)
-                },
-                lmax: 0.1,
-                min_triangles: if name == "synpeb-auto" { 250 } else { 1000 },
-                min_area: if name == "synpeb-auto" { 0.015 } else { 0.0 },
-                z_thresh: 0.07,
-                norm_thresh: 0.95,
-                min_hole_vertices: 50,
-                refine: name == "synpeb-auto",
-                ..base
-            },
+                    lmax: 0.1,
+                    min_triangles: if adaptive { 250 } else { 1000 },
+                    min_area: if adaptive { 0.015 } else { 0.0 },
+                    z_thresh: 0.07,
+                    norm_thresh: 0.95,
+                    min_hole_vertices: 50,
+                    refine: adaptive,
+                    ..base
+                }
+            }
             "rooftop" => Self {
                 laplacian: Some(LaplacianConfig::default()),
                 bilateral: Some(BilateralConfig::default()),
@@ -630,6 +652,15 @@ impl Config {
                 "min_area",
                 self.min_area.to_string(),
                 "must be a finite area ≥ 0",
+            );
+        }
+        if let Some(l) = &self.laplacian
+            && !(0.0..=MAX_RANGE_EXPONENT).contains(&l.range_exponent)
+        {
+            return bad(
+                "laplacian.range_exponent",
+                l.range_exponent.to_string(),
+                "must be in [0, 4]",
             );
         }
         if !(self.z_thresh.is_finite() && self.z_thresh >= 0.0) {

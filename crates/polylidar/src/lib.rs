@@ -52,8 +52,8 @@ pub mod scale;
 pub mod shapes;
 
 pub use config::{
-    BilateralConfig, Config, FastGaSection, LaplacianConfig, LaplacianIterations, PRESETS,
-    PostprocessSection, SmoothingBackend,
+    BilateralConfig, Config, FastGaSection, LaplacianConfig, LaplacianIterations,
+    MAX_RANGE_EXPONENT, PRESETS, PostprocessSection, SmoothingBackend,
 };
 pub use diagnostics::{Counts, Diagnostics, Timings};
 pub use error::PolylidarError;
@@ -61,7 +61,7 @@ pub use halfedge_mesh::{HalfEdgeMesh, MeshError};
 pub use mesh::PlanarMeshes;
 pub use noise::{
     CORRELATION_STRIDE, MAX_AUTO_ITERATIONS, WHITE_NOISE_RATIO, auto_laplacian_iterations,
-    estimate_noise, estimate_noise_absolute, estimate_noise_correlation,
+    estimate_noise, estimate_noise_absolute, estimate_noise_correlation, passes_by_range,
     predict_laplacian_iterations,
 };
 pub use opc_mesh::{

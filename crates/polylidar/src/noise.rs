@@ -4,6 +4,7 @@
 //! cloud noise").
 
 use opc_mesh::OrganizedPointCloud;
+use rayon::prelude::*;
 
 /// At most about this many 3 × 3 neighbourhoods are fitted per cloud (a regular grid of
 /// them); about 0.5 ms on a 500 × 500 cloud in a release build.
@@ -153,6 +154,64 @@ pub fn auto_laplacian_iterations(cloud: &OrganizedPointCloud) -> u32 {
     let factor =
         correlation(cloud, noise).map_or(1.0, |ratio| (ratio / WHITE_NOISE_RATIO).max(1.0).powi(2));
     passes((MODEL_INTERCEPT + MODEL_SLOPE * noise) * factor)
+}
+
+/// About this many points are sampled for the median range of [`passes_by_range`].
+const RANGE_SAMPLES: usize = 16_384;
+
+/// The Laplacian pass count of every point of `cloud` for
+/// [`LaplacianConfig::range_exponent`](crate::LaplacianConfig::range_exponent) `exponent`:
+/// `round(n · (r / r_median)^exponent)` clamped to `1..=max(n, MAX_AUTO_ITERATIONS)` (and
+/// to 255), for its range `r` from the origin and the median range `r_median` of a
+/// regular sample of the valid points; invalid points get 0. `None` without a valid point
+/// at a positive range.
+///
+/// ```
+/// use polylidar::{OrganizedPointCloud, passes_by_range};
+///
+/// // Points at ranges 1, 2, 3 and 4 m: the median (of the sample) is 3 m.
+/// let cloud = OrganizedPointCloud::new(1, 4, vec![
+///     [0.0, 0.0, 1.0], [0.0, 0.0, 2.0], [0.0, 0.0, 3.0], [0.0, 0.0, 4.0],
+/// ])?;
+/// assert_eq!(passes_by_range(&cloud, 6, 1.0), Some(vec![2, 4, 6, 8]));
+/// assert_eq!(passes_by_range(&cloud, 6, 2.0), Some(vec![1, 3, 6, 11]));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn passes_by_range(cloud: &OrganizedPointCloud, n: u32, exponent: f64) -> Option<Vec<u8>> {
+    let points = cloud.points();
+    let squared = |p: &[f64; 3]| p[0] * p[0] + p[1] * p[1] + p[2] * p[2];
+    let step = (points.len() / RANGE_SAMPLES).max(1);
+    let mut sample: Vec<f64> = points
+        .iter()
+        .step_by(step)
+        .map(squared)
+        .filter(|r2| r2.is_finite() && *r2 > 0.0)
+        .collect();
+    if sample.is_empty() {
+        return None;
+    }
+    let mid = sample.len() / 2;
+    let (_, &mut median, _) = sample.select_nth_unstable_by(mid, f64::total_cmp);
+    // round(n (r / r_m)^e) ≥ k  ⇔  r² ≥ r_m² ((k − ½) / n)^(2 / e): the squared range at
+    // which each count from 2 up starts.
+    let upper = n.max(MAX_AUTO_ITERATIONS).min(u32::from(u8::MAX));
+    let starts: Vec<f64> = (2..=upper)
+        .map(|k| median * ((f64::from(k) - 0.5) / f64::from(n)).powf(2.0 / exponent))
+        .collect();
+    let mut passes = vec![0u8; points.len()];
+    passes
+        .par_chunks_mut(4096)
+        .zip(points.par_chunks(4096))
+        .for_each(|(out, points)| {
+            for (o, p) in out.iter_mut().zip(points) {
+                let r2 = squared(p);
+                if r2.is_finite() {
+                    // At most upper ≤ 255.
+                    *o = (1 + starts.partition_point(|&s| s <= r2)) as u8;
+                }
+            }
+        });
+    Some(passes)
 }
 
 /// The eigenvalues λ₀ ≤ λ₁ ≤ λ₂ of one neighbourhood's covariance.

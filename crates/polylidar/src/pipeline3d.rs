@@ -5,7 +5,7 @@ use fastga::FastGa;
 use halfedge_mesh::{HalfEdgeMesh, MeshOptions};
 use std::borrow::Cow;
 
-use mesh_smooth_gpu::SmoothError;
+use mesh_smooth_gpu::{Backend, SmoothError};
 use opc_mesh::{OpcMeshOptions, OrganizedPointCloud, OrganizedPointCloudView};
 use polypost::{Plane, Polygon3, PostProcessor};
 
@@ -263,7 +263,8 @@ impl Polylidar {
 }
 
 /// Runs the Laplacian filter `l` on `cloud` (in place when it is owned), returning the
-/// passes run: the fixed count, or the one predicted from the cloud's noise.
+/// passes run: the fixed count, or the one predicted from the cloud's noise (at the
+/// median range when the passes grow with range).
 fn laplacian(
     reuse: &mut reuse::Reusable,
     l: &LaplacianConfig,
@@ -277,6 +278,13 @@ fn laplacian(
         return Ok(0);
     }
     let options = l.options(iterations);
+    let passes = (l.range_exponent > 0.0 && options.backend != Backend::Gpu)
+        .then(|| crate::noise::passes_by_range(cloud, iterations, l.range_exponent))
+        .flatten();
+    if let Some(passes) = passes {
+        reuse.laplacian_per_pixel(cloud.to_mut(), &options, &passes)?;
+        return Ok(iterations);
+    }
     match cloud {
         Cow::Owned(c) => reuse.laplacian_in_place(c, &options)?,
         Cow::Borrowed(c) => {

@@ -69,6 +69,18 @@ impl Reusable {
         }
     }
 
+    /// The Laplacian filter of `cloud` with a pass count per pixel, overwriting it, on a
+    /// kept CPU smoother (the GPU backend has no per-pixel counts: an error).
+    pub fn laplacian_per_pixel(
+        &mut self,
+        cloud: &mut OrganizedPointCloud,
+        options: &LaplacianOptions,
+        passes: &[u8],
+    ) -> Result<(), SmoothError> {
+        self.cpu(options.backend)?
+            .laplacian_in_place_per_pixel(cloud, options, passes)
+    }
+
     /// The bilateral normal filter of `cloud`'s implicit mesh, written into `opc`'s
     /// triangle normals.
     pub fn bilateral(

@@ -213,3 +213,47 @@ fn correlated_noise_gets_more_passes() {
     assert_eq!(auto_laplacian_iterations(&white), base(&white));
     assert!(auto_laplacian_iterations(&ripples) > base(&ripples));
 }
+
+#[test]
+fn passes_that_grow_with_range_keep_a_far_quantised_wall_whole() {
+    // A Kinect-like 640 × 480 frame: depth error σ ∝ z² and disparity steps of 1/8 px
+    // cut the back wall (4–5 m away) into terraces. With one pass count for the whole
+    // frame (set by its median noise, the near floor's) the terraces stay and the wall
+    // breaks into bands too small to keep; with passes growing with range it is found.
+    let kind = synthscan::DepthCameraKind::Kinect;
+    let (scene, camera) = synthscan::rgbd_like(1, kind).expect("scene");
+    let scan = scene.scan_depth(&camera, 1).expect("scan");
+    let cloud = OrganizedPointCloud::new(scan.rows, scan.cols, scan.points).expect("cloud");
+    let wall = 2;
+    let found = |preset: &str| {
+        let config = Config::preset(preset).expect("preset").with_threads(2);
+        let extraction = Polylidar::new(config)
+            .expect("config")
+            .extract_organized(&cloud)
+            .expect("extraction");
+        let labels = extraction.plane_labels();
+        let scores = seg_metrics::evaluate(
+            cloud.points(),
+            &scan.labels,
+            &labels,
+            &seg_metrics::EvaluateOptions::new(),
+        )
+        .expect("scores");
+        scores.matches.iter().any(|m| m.truth == wall)
+    };
+    assert!(!found("synpeb-auto"), "uniform passes were expected to break the wall");
+    assert!(found("rgbd-auto"));
+}
+
+#[test]
+fn range_exponent_is_checked() {
+    let mut config = Config::preset("rgbd-auto").expect("preset");
+    assert!(config.validate().is_ok());
+    for bad in [-0.5, 4.5, f64::NAN] {
+        if let Some(l) = config.laplacian.as_mut() {
+            l.range_exponent = bad;
+        }
+        let error = Polylidar::new(config.clone()).expect_err("invalid exponent");
+        assert!(error.to_string().contains("range_exponent"), "{error}");
+    }
+}

@@ -14,22 +14,46 @@ pub(crate) struct LaplacianWork {
     planes: PlaneSet<8>,
 }
 
+/// How many passes each pixel takes part in: all of them, or pixel `i` only in the first
+/// `passes[i]` (one entry per point; afterwards it keeps its value and still serves as a
+/// neighbour).
+#[derive(Clone, Copy)]
+pub(crate) enum Passes<'a> {
+    Uniform(u32),
+    PerPixel(&'a [u8]),
+}
+
 /// Filters `cloud` in place on the CPU (`parallel`: over the rayon pool). Options are
-/// validated.
+/// validated; `options.iterations` is replaced by `passes`, whose per-pixel counts have
+/// one entry per point.
 pub(crate) fn laplacian_in_place(
     work: &mut LaplacianWork,
     cloud: &mut OrganizedPointCloud,
     options: &LaplacianOptions,
+    passes: Passes<'_>,
     parallel: bool,
 ) {
     let (rows, cols) = (cloud.rows(), cloud.cols());
     let half = (options.kernel / 2) as usize;
-    if options.iterations == 0 || rows <= 2 * half || cols <= 2 * half {
+    let (iterations, limits) = match passes {
+        Passes::Uniform(n) => (n, None),
+        Passes::PerPixel(p) => (u32::from(p.iter().copied().max().unwrap_or(0)), Some(p)),
+    };
+    if iterations == 0 || rows <= 2 * half || cols <= 2 * half {
         return;
     }
+    // The largest count per row: rows whose pixels are all done are copied.
+    let row_limits: Vec<u8> = limits.map_or_else(Vec::new, |p| {
+        p.chunks_exact(cols)
+            .map(|row| row.iter().copied().max().unwrap_or(0))
+            .collect()
+    });
     work.planes.resize(cloud.points().len());
     let [x, y, z, m, nx, ny, nz, weight_sums] = work.planes.planes_mut();
     fill_planes(cloud.points(), cols, parallel, [x, y, z, m]);
+    // A pixel is written back if the kernel filtered it in its last pass; rows skipped
+    // from the first pass on are never written.
+    weight_sums.fill(0.0);
     let grid = Grid {
         rows,
         cols,
@@ -40,7 +64,7 @@ pub(crate) fn laplacian_in_place(
     let m = &*m;
     let mut current = [x, y, z];
     let mut next = [nx, ny, nz];
-    for _ in 0..options.iterations {
+    for pass in 0..iterations {
         let [cx, cy, cz] = &current;
         let source = Source {
             x: cx,
@@ -58,7 +82,30 @@ pub(crate) fn laplacian_in_place(
             .into_par_iter()
             .enumerate()
             .with_min_len(min_rows_per_task(parallel))
-            .for_each(|(r, (ox, oy, oz, ow))| row(&grid, r, &source, [ox, oy, oz], ow));
+            .for_each(|(r, (ox, oy, oz, ow))| match limits {
+                None => row(&grid, r, &source, [ox, oy, oz], ow),
+                Some(limits) => {
+                    let pass = pass as u8;
+                    let span = r * cols..(r + 1) * cols;
+                    if row_limits[r] <= pass {
+                        // Every pixel of the row is done: it keeps its last weight sum.
+                        ox.copy_from_slice(&source.x[span.clone()]);
+                        oy.copy_from_slice(&source.y[span.clone()]);
+                        oz.copy_from_slice(&source.z[span]);
+                        return;
+                    }
+                    row(&grid, r, &source, [&mut *ox, &mut *oy, &mut *oz], ow);
+                    for (i, &limit) in limits[span.clone()].iter().enumerate() {
+                        if limit <= pass {
+                            let k = span.start + i;
+                            (ox[i], oy[i], oz[i]) = (source.x[k], source.y[k], source.z[k]);
+                            if limit == 0 {
+                                ow[i] = 0.0;
+                            }
+                        }
+                    }
+                }
+            });
         std::mem::swap(&mut current, &mut next);
     }
     let [x, y, z] = &current;

@@ -3,7 +3,7 @@
 use opc_mesh::OrganizedPointCloud;
 
 use super::bilateral::{BilateralWork, bilateral_into};
-use super::laplacian::{LaplacianWork, laplacian_in_place};
+use super::laplacian::{LaplacianWork, Passes, laplacian_in_place};
 use crate::{Backend, BilateralOptions, LaplacianOptions, SlotNormals, SmoothError};
 
 /// The CPU backends with their working buffers (`f32` planes, ping-pong buffers, triangle
@@ -93,7 +93,54 @@ impl CpuSmoother {
         options: &LaplacianOptions,
     ) -> Result<(), SmoothError> {
         options.validate()?;
-        laplacian_in_place(&mut self.laplacian, cloud, options, self.parallel);
+        let passes = Passes::Uniform(options.iterations);
+        laplacian_in_place(&mut self.laplacian, cloud, options, passes, self.parallel);
+        Ok(())
+    }
+
+    /// The Laplacian filter with a pass count per pixel: pixel `i` moves in the first
+    /// `passes[i]` passes only (0: not at all) and keeps its place afterwards, still
+    /// weighing in its neighbours' means; `options.iterations` is ignored (the largest
+    /// count is run). Rows whose pixels are all done are skipped. For noise that differs
+    /// across the image, such as an RGB-D camera's depth error growing with range.
+    ///
+    /// Every pixel with the same count `n` gives exactly [`Self::laplacian_in_place`] with
+    /// `n` iterations.
+    ///
+    /// ```
+    /// use mesh_smooth_gpu::{Backend, CpuSmoother, LaplacianOptions};
+    /// use opc_mesh::OrganizedPointCloud;
+    ///
+    /// let points: Vec<[f64; 3]> =
+    ///     (0..100).map(|i| [(i % 10) as f64, (i / 10) as f64, (i % 3) as f64 * 0.1]).collect();
+    /// let mut cloud = OrganizedPointCloud::new(10, 10, points.clone())?;
+    /// // The left half stays as it is, the right half takes four passes.
+    /// let passes: Vec<u8> = (0..100).map(|i| if i % 10 < 5 { 0 } else { 4 }).collect();
+    /// let mut smoother = CpuSmoother::new(Backend::Cpu)?;
+    /// smoother.laplacian_in_place_per_pixel(&mut cloud, &LaplacianOptions::new(), &passes)?;
+    /// assert_eq!(cloud.points()[13], points[13]);
+    /// assert_ne!(cloud.points()[17], points[17]);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    ///
+    /// # Errors
+    /// Invalid options, or `passes` not one entry per point (the cloud is then unchanged).
+    pub fn laplacian_in_place_per_pixel(
+        &mut self,
+        cloud: &mut OrganizedPointCloud,
+        options: &LaplacianOptions,
+        passes: &[u8],
+    ) -> Result<(), SmoothError> {
+        options.validate()?;
+        if passes.len() != cloud.points().len() {
+            return Err(SmoothError::InvalidParameter {
+                name: "passes",
+                value: passes.len() as f64,
+                reason: "needs one pass count per point of the cloud",
+            });
+        }
+        let passes = Passes::PerPixel(passes);
+        laplacian_in_place(&mut self.laplacian, cloud, options, passes, self.parallel);
         Ok(())
     }
 
