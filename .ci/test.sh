@@ -67,7 +67,7 @@ awk '/^test result: / {
     }
     END { printf "%d %d %d\n", passed, failed, ignored }' "$output" > "$target/test-counts"
 # pytest's last line: "31 passed, 2 skipped in 12.3s".
-python_counts=$(awk '/^(=+ )?[0-9]+ (passed|failed|skipped|errors?|deselected)[, ].* in [0-9.]+s/ {
+python_counts=$(awk '/^(=+ )?[0-9]+ (passed|failed|skipped|errors?|deselected).* in [0-9.]+s/ {
         line = $0; p = f = s = 0
         if (match(line, /[0-9]+ passed/)) p = substr(line, RSTART, RLENGTH) + 0
         if (match(line, /[0-9]+ failed/)) f = substr(line, RSTART, RLENGTH) + 0
