@@ -169,8 +169,8 @@ const RANGE_SAMPLES: usize = 16_384;
 /// ```
 /// use polylidar::{OrganizedPointCloud, passes_by_range};
 ///
-/// // Points at ranges 1, 2, 3 and 4 m: the median (of the sample) is 3 m.
-/// let cloud = OrganizedPointCloud::new(1, 4, vec![
+/// // A 2 × 2 cloud at ranges 1, 2, 3 and 4 m: the median (of the sample) is 3 m.
+/// let cloud = OrganizedPointCloud::new(2, 2, vec![
 ///     [0.0, 0.0, 1.0], [0.0, 0.0, 2.0], [0.0, 0.0, 3.0], [0.0, 0.0, 4.0],
 /// ])?;
 /// assert_eq!(passes_by_range(&cloud, 6, 1.0), Some(vec![2, 4, 6, 8]));
