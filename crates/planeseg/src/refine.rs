@@ -30,8 +30,10 @@
 //!
 //! 5. **One plane, several polygons** ([`coplanar`]): after polygon extraction, segments
 //!    that no edge connects but whose normals are within [`COPLANAR_COS`] and that pass
-//!    the same plane test (with the floor [`COPLANAR_FLOOR`]) are reported as lying on one plane (a wall seen on both sides
-//!    of an object in front of it); each keeps its own polygon.
+//!    the same plane test (with the floor [`COPLANAR_FLOOR`]) are reported as lying on
+//!    one plane (a wall seen on both sides of an object in front of it); each keeps its
+//!    own polygon. A small piece ([`SMALL_PIECE_SHARE`]) needs its normal within
+//!    `norm_thresh` only and passes with the floor [`SMALL_PIECE_FLOOR`].
 //!
 //!
 //! Planes are area-weighted: the normal is the unit vector area of the triangles (which
@@ -415,7 +417,7 @@ pub(crate) fn refine(
         segments: kept_segments,
         planes,
         labels,
-        same_plane: coplanar(&kept_sums, config.z_thresh),
+        same_plane: coplanar(&kept_sums, config.z_thresh, config.norm_thresh),
         absorbed,
         free_planes,
         merged,
@@ -661,9 +663,12 @@ pub const COPLANAR_COS: f64 = 0.996;
 
 /// For each segment (by its plane sums), the index of the first segment on the same plane
 /// (see [`PlanarSegment::plane`](crate::PlanarSegment::plane)): segments whose normals are
-/// within [`COPLANAR_COS`] and that one plane explains as merging requires.
-fn coplanar(sums: &[PlaneSums], z_thresh: f64) -> Vec<u32> {
+/// within [`COPLANAR_COS`] and that one plane explains as merging requires (a small piece:
+/// see [`SMALL_PIECE_SHARE`]).
+fn coplanar(sums: &[PlaneSums], z_thresh: f64, norm_thresh: f64) -> Vec<u32> {
     let floor = merge_floor(z_thresh, COPLANAR_FLOOR);
+    let small_floor = merge_floor(z_thresh, SMALL_PIECE_FLOOR);
+    let small_cos = norm_thresh.min(COPLANAR_COS);
     let mut plane: Vec<u32> = (0..sums.len() as u32).collect();
     let mut members: Vec<PlaneSums> = sums.to_vec();
     for j in 0..sums.len() {
@@ -675,7 +680,14 @@ fn coplanar(sums: &[PlaneSums], z_thresh: f64) -> Vec<u32> {
             let Some(pi) = members[i].plane() else {
                 continue;
             };
-            if dot(pi.normal, pj.normal) < COPLANAR_COS {
+            let (wi, wj) = (members[i].weight, sums[j].weight);
+            let small = wi.min(wj) < SMALL_PIECE_SHARE * wi.max(wj);
+            let (cos, floor) = if small {
+                (small_cos, small_floor)
+            } else {
+                (COPLANAR_COS, floor)
+            };
+            if dot(pi.normal, pj.normal) < cos {
                 continue;
             }
             if let Some(merged) = one_plane(&members[i], &sums[j], floor) {
@@ -687,6 +699,18 @@ fn coplanar(sums: &[PlaneSums], z_thresh: f64) -> Vec<u32> {
     }
     plane
 }
+
+/// A disjoint piece with less than this share of the other piece's area is *small*
+/// ([`coplanar`]): its own normal and spread, measured on few noisy triangles, say little,
+/// so it joins a larger piece's plane when its normal is within `norm_thresh` (the
+/// tolerance region growing applies) instead of [`COPLANAR_COS`], and one plane explains
+/// both within [`SMALL_PIECE_FLOOR`] of `z_thresh` instead of [`COPLANAR_FLOOR`]: the strip
+/// of a wall seen between two pieces of furniture.
+pub const SMALL_PIECE_SHARE: f64 = 0.1;
+
+/// The RMS floor of the plane test for a small disjoint piece ([`SMALL_PIECE_SHARE`]), as
+/// a share of `z_thresh`: a quarter, half the floor of pieces that share an edge.
+pub const SMALL_PIECE_FLOOR: f64 = 0.25;
 
 /// The RMS below which two segments that share an edge count as one plane whatever their
 /// own spread, as a share of `z_thresh`: half of it, the spread of points within

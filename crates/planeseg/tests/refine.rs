@@ -194,6 +194,45 @@ fn pieces_of_one_plane_share_a_plane_id() {
 }
 
 #[test]
+fn a_small_piece_joins_the_plane_it_lies_in_despite_a_noisy_normal() {
+    // A floor for x ≤ 20 and, beyond a trench 5 deep, a 6 × 6 plateau tilted by 7° about
+    // the floor's level (as noise tilts a patch of a wall seen between two objects): more
+    // than COPLANAR_COS allows, but within norm_thresh, and its points lie within a
+    // quarter of z_thresh of the floor's plane. Raised by half of z_thresh it is a plane of
+    // its own.
+    let tilt = 7f64.to_radians().tan();
+    let plateau = |x: f64, y: f64| (23.0..=29.0).contains(&x) && (10.0..=16.0).contains(&y);
+    let scene = |lift: f64| {
+        height_field(30, move |x, y| {
+            if x <= 20.0 {
+                0.0
+            } else if plateau(x, y) {
+                lift + (x - 26.0) * tilt
+            } else {
+                -5.0
+            }
+        })
+    };
+    let config = config(true).with_z_thresh(1.0).with_min_triangles(20);
+    for (lift, same) in [(0.0, true), (0.5, false)] {
+        let mesh = scene(lift);
+        let refined = segment(&mesh, &[UP], &config).unwrap();
+        let index_of = |inside: &dyn Fn([f64; 3]) -> bool| {
+            let triangles = triangles_where(&mesh, inside);
+            refined
+                .segments
+                .iter()
+                .position(|s| sorted(s) == triangles)
+                .unwrap()
+        };
+        let floor = index_of(&|p| p[0] <= 20.0);
+        let piece = index_of(&|p| plateau(p[0], p[1]));
+        let plane = |i: usize| refined.segments[i].plane;
+        assert_eq!(plane(piece) == plane(floor), same, "lift {lift}");
+    }
+}
+
+#[test]
 fn refinement_does_not_depend_on_the_thread_count() {
     let mesh = height_field(40, |x, y| ((x * 0.37).sin() + (y * 0.23).cos()) * 0.8);
     let run = |threads| {
