@@ -46,27 +46,28 @@ pub(crate) fn triangulate(input: &CdtInput<'_>) -> Result<CdtOutput, MeshError> 
         .filter(|e| e[0] != e[1])
         .map(|e| [e[0] as usize, e[1] as usize])
         .collect();
-    let mut conflicts = 0usize;
-    let cdt = Cdt::try_bulk_load_cdt(vertices.clone(), edges.clone(), |_| conflicts += 1)
+    let mut conflicting = Vec::new();
+    let mut cdt = Cdt::try_bulk_load_cdt(vertices, edges, |e| conflicting.push(e))
         .map_err(|e| MeshError::Triangulation(e.to_string()))?;
-    let cdt = if conflicts == 0 && cdt.num_vertices() == vertices.len() {
-        cdt
-    } else {
-        // Crossing constraints (a ring that intersects itself after projection onto the
-        // plane): insert them one by one, split where they cross.
-        let mut cdt = Cdt::bulk_load_cdt(vertices, Vec::new())
-            .map_err(|e| MeshError::Triangulation(e.to_string()))?;
-        for [a, b] in edges {
-            cdt.add_constraint_and_split(
-                FixedVertexHandle::from_index(a),
-                FixedVertexHandle::from_index(b),
-                |p| p,
-            );
-        }
-        cdt
-    };
+    if cdt.num_vertices() != input.points.len() {
+        return Err(MeshError::Triangulation(format!(
+            "{} of {} points are distinct",
+            cdt.num_vertices(),
+            input.points.len()
+        )));
+    }
+    // Crossing constraints (a ring that crosses itself after projection onto the fitted
+    // plane, where it passed close to itself): added afterwards, split where they cross.
+    for [a, b] in conflicting {
+        cdt.add_constraint_and_split(
+            FixedVertexHandle::from_index(a),
+            FixedVertexHandle::from_index(b),
+            |p| p,
+        );
+    }
+    let kept = keep_between(&cdt, input);
     Ok(CdtOutput {
-        triangles: keep_between(&cdt, input),
+        triangles: kept,
         added: cdt
             .vertices()
             .skip(input.points.len())
@@ -118,4 +119,80 @@ fn keep_between(cdt: &Cdt, input: &CdtInput<'_>) -> Vec<[u32; 3]> {
         .filter(|f| state[f.fix().index()] & 3 == 1)
         .map(|f| f.vertices().map(|v| v.fix().index() as u32))
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+    use super::*;
+
+    fn area(points: &[[f64; 2]], t: [u32; 3]) -> f64 {
+        let [a, b, c] = t.map(|v| points[v as usize]);
+        0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]))
+    }
+
+    #[test]
+    fn square_minus_square_hole() {
+        let points = [
+            [0.0, 0.0],
+            [3.0, 0.0],
+            [3.0, 3.0],
+            [0.0, 3.0],
+            [1.0, 1.0],
+            [1.0, 2.0],
+            [2.0, 2.0],
+            [2.0, 1.0],
+        ];
+        let ring_edges = [
+            [0, 1],
+            [1, 2],
+            [2, 3],
+            [3, 0],
+            [4, 5],
+            [5, 6],
+            [6, 7],
+            [7, 4],
+        ];
+        let out = triangulate(&CdtInput {
+            points: &points,
+            ring_edges: &ring_edges,
+            outline_edges: &[],
+            first_outline: 8,
+        })
+        .unwrap();
+        assert!(out.added.is_empty());
+        let total: f64 = out.triangles.iter().map(|&t| area(&points, t)).sum();
+        assert_eq!(total, 8.0);
+        // The hole as an outline instead: the band is the same.
+        let out = triangulate(&CdtInput {
+            points: &points,
+            ring_edges: &ring_edges[..4],
+            outline_edges: &ring_edges[4..],
+            first_outline: 4,
+        })
+        .unwrap();
+        assert_eq!(
+            out.triangles.iter().map(|&t| area(&points, t)).sum::<f64>(),
+            8.0
+        );
+    }
+
+    #[test]
+    fn a_ring_that_crosses_itself_is_split_where_it_crosses() {
+        // A figure eight: two triangles of area 1 meeting at (1, 1), even-odd inside.
+        let points = [[0.0, 0.0], [2.0, 2.0], [2.0, 0.0], [0.0, 2.0]];
+        let ring_edges = [[0, 1], [1, 2], [2, 3], [3, 0]];
+        let out = triangulate(&CdtInput {
+            points: &points,
+            ring_edges: &ring_edges,
+            outline_edges: &[],
+            first_outline: 4,
+        })
+        .unwrap();
+        assert_eq!(out.added.len(), 1);
+        let mut all = points.to_vec();
+        all.extend(&out.added);
+        let total: f64 = out.triangles.iter().map(|&t| area(&all, t)).sum();
+        assert!((total - 2.0).abs() < 1e-12, "{total}");
+    }
 }

@@ -70,7 +70,7 @@ mod triangulate;
 pub use error::MeshError;
 pub use frame::PlaneFrame;
 pub use merge::{ATLAS_GUTTER, Atlas, MergedMesh, Packing, PlaneRange, merge};
-pub use quadtree::MAX_DEPTH;
+pub use quadtree::{AUTO_CELL_EDGES, MAX_DEPTH};
 pub use simplify::{Depth, MeshOptions, PlaneMesh, PlaneStats, Segment, simplify, simplify_all};
 pub use texture::{DEFAULT_TEXELS_PER_UNIT, Resolution, Texture, TextureOptions};
 pub use triangulate::Method;

@@ -46,8 +46,8 @@ impl<'a> Segment<'a> {
 /// The quadtree depth.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Depth {
-    /// Per segment: the depth whose finest cell is about the median boundary edge length
-    /// (rounded to the next finer power of two).
+    /// Per segment: the shallowest depth whose finest cell is at most
+    /// [`AUTO_CELL_EDGES`](crate::AUTO_CELL_EDGES) median boundary edge lengths.
     #[default]
     Auto,
     /// This depth for every segment (`2^depth` cells per side, 1 to [`MAX_DEPTH`]).

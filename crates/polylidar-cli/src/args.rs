@@ -22,6 +22,9 @@ pub enum Command {
     Evaluate(EvaluateArgs),
     /// Generate a SynPEB-like organized scan with ground-truth plane labels.
     Generate(GenerateArgs),
+    /// Extract the planes, then simplify and texture them into light meshes (Ma et al.
+    /// 2013): OBJ + MTL + PNG and PLY.
+    Mesh(crate::mesh::MeshArgs),
 }
 
 /// The built-in inputs of `--demo`.

@@ -6,6 +6,7 @@
 //! polylidar extract points.csv --alpha 0.5 --plot points.png
 //! polylidar evaluate scan.pcd --labels truth.npy --preset synpeb
 //! polylidar generate --seed 3 --noise-mdeg 2 -o scan.pcd --labels-out truth.npy
+//! polylidar mesh depth.png --intrinsics camera.json --preset rgbd --texture -o room.obj
 //! ```
 //!
 //! Exit codes: 0 done (also when nothing was found, unless `--strict`), 1 an error
@@ -15,6 +16,7 @@
 mod args;
 mod evaluate;
 mod input;
+mod mesh;
 mod params;
 mod plot;
 mod report;

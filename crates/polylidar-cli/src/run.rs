@@ -55,6 +55,9 @@ pub enum CliError {
     /// Scoring failed.
     #[error(transparent)]
     Metrics(#[from] seg_metrics::MetricsError),
+    /// A plane could not be meshed or textured.
+    #[error(transparent)]
+    Mesh(#[from] polylidar::planar_mesh::MeshError),
     /// An output file could not be written.
     #[error("cannot write {path}: {message}")]
     Write {
@@ -90,6 +93,7 @@ pub fn run(cli: Cli) -> Result<Outcome, CliError> {
         Command::Extract(args) => extract(&args),
         Command::Evaluate(args) => evaluate::evaluate(&args).map(|()| Outcome::Done),
         Command::Generate(args) => evaluate::generate(&args).map(|()| Outcome::Done),
+        Command::Mesh(args) => crate::mesh::mesh(&args),
     }
 }
 

@@ -11,6 +11,9 @@ use rayon::prelude::*;
 
 use crate::Extraction;
 
+/// A segment's points and their colours.
+type Gathered = (Vec<[f64; 3]>, Option<Vec<[u8; 3]>>);
+
 /// The simplified meshes of an extraction's planes.
 #[derive(Debug, Clone)]
 pub struct PlanarMeshes {
@@ -40,16 +43,25 @@ impl Extraction {
     /// The point indices (mesh vertices) of every polygon's triangles, sorted.
     pub fn polygon_vertices(&self) -> Vec<Vec<u32>> {
         let triangles = self.mesh.triangles();
+        let words = self.mesh.num_vertices().div_ceil(64);
         self.polygons
             .par_iter()
             .map(|p| {
-                let mut ids: Vec<u32> = p
-                    .triangles
-                    .iter()
-                    .flat_map(|&t| triangles[t as usize])
-                    .collect();
-                ids.sort_unstable();
-                ids.dedup();
+                // A bitmap of the vertices seen, read back in order.
+                let mut seen = vec![0u64; words];
+                for &t in &p.triangles {
+                    for v in triangles[t as usize] {
+                        seen[v as usize / 64] |= 1 << (v % 64);
+                    }
+                }
+                let mut ids = Vec::with_capacity(p.triangles.len() / 2 + 8);
+                for (w, &bits) in seen.iter().enumerate() {
+                    let mut b = bits;
+                    while b != 0 {
+                        ids.push((w * 64) as u32 + b.trailing_zeros());
+                        b &= b - 1;
+                    }
+                }
                 ids
             })
             .collect()
@@ -98,7 +110,7 @@ impl Extraction {
             return Err(MeshError::NoColors);
         }
         let ids = self.polygon_vertices();
-        let gathered: Vec<(Vec<[f64; 3]>, Option<Vec<[u8; 3]>>)> = ids
+        let gathered: Vec<Gathered> = ids
             .par_iter()
             .map(|ids| {
                 let points = ids.iter().map(|&v| vertices[v as usize]).collect();

@@ -1,0 +1,491 @@
+//! `polylidar mesh`: planes and polygons → simplified, textured meshes (Ma et al. 2013)
+//! written as OBJ + MTL + PNG and PLY, with a `--plot` of the textured wireframe.
+
+mod render;
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use clap::{Args, ValueEnum};
+use polylidar::planar_mesh::{
+    Depth, MergedMesh, MeshOptions, Method, Packing, Resolution, TextureOptions, export,
+};
+use polylidar::{DepthOptions, Extraction, Intrinsics, OrganizedPointCloud, Polylidar};
+use polylidar_io::{ColorImage, Format};
+
+use crate::args::InputArgs;
+use crate::input::{Input, Loaded, load};
+use crate::params;
+use crate::run::{CliError, Outcome, run_once, write};
+
+/// Arguments of `polylidar mesh`.
+#[derive(Debug, Args)]
+pub struct MeshArgs {
+    /// The input and the parameters of the plane extraction (as `extract`). A 16-bit depth
+    /// PNG may come with `--intrinsics` instead of a `_metadata.csv`.
+    #[command(flatten)]
+    pub input: InputArgs,
+    /// The mesh, as Wavefront OBJ; beside it `<name>.mtl`, the texture `<name>.png` (or
+    /// `<name>_plane_<k>.png` with `--per-plane`) and `<name>.ply`.
+    #[arg(short, long, value_name = "FILE.obj", help_heading = "Mesh")]
+    pub output: PathBuf,
+    /// Texture the planes from the points' colours: a depth PNG's colour picture
+    /// (`--color`, or found beside it: `depth` → `color`/`rgb` in the name, .png/.jpg),
+    /// a PCD's `rgb`/`rgba` field, a PLY's vertex colours.
+    #[arg(long, help_heading = "Mesh")]
+    pub texture: bool,
+    /// Triangulation: `polygon` (two right triangles per quadtree node, the band to the
+    /// boundary by constrained Delaunay), `point` (constrained Delaunay of all kept
+    /// vertices), or `boundary` (boundary vertices only: the paper's baseline).
+    #[arg(long, value_enum, default_value_t = MethodArg::Polygon, help_heading = "Mesh")]
+    pub method: MethodArg,
+    /// Quadtree depth (1–16). Default: per plane, the finest cell between 2 and 4
+    /// boundary spacings.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=16), help_heading = "Mesh")]
+    pub depth: Option<u32>,
+    /// Texels per unit length (per metre for metric input), or `auto`: one per point
+    /// spacing. Default: 100 (the paper's).
+    #[arg(long, value_name = "R|auto", help_heading = "Mesh")]
+    pub resolution: Option<String>,
+    /// One PNG per plane instead of one atlas.
+    #[arg(long, help_heading = "Mesh")]
+    pub per_plane: bool,
+    /// Polygon-based: split interior nodes with smaller neighbours so that the mesh has
+    /// no T-joints anywhere (more triangles).
+    #[arg(long, help_heading = "Mesh")]
+    pub conforming: bool,
+    /// The colour picture of a depth PNG (8-bit PNG or JPEG of the same size).
+    #[arg(long, value_name = "FILE", help_heading = "Mesh")]
+    pub color: Option<PathBuf>,
+    /// Camera intrinsics of a depth PNG: an Open3D camera JSON (`width`, `height`,
+    /// `intrinsic_matrix`) or a RealSense `_metadata.csv`.
+    #[arg(long, value_name = "FILE", help_heading = "Mesh")]
+    pub intrinsics: Option<PathBuf>,
+    /// Depth PNG with `--intrinsics`: depth units per metre (1000 for millimetres, 5000
+    /// for the TUM RGB-D benchmark).
+    #[arg(
+        long,
+        value_name = "UNITS",
+        default_value_t = 1000.0,
+        help_heading = "Mesh"
+    )]
+    pub depth_scale: f64,
+    /// Draw the textured mesh with its wireframe into a PNG: from the camera for depth
+    /// images, else an oblique orthographic view.
+    #[arg(long, value_name = "FILE", help_heading = "Mesh")]
+    pub plot: Option<PathBuf>,
+    /// Print one JSON object with counts and timings on stdout.
+    #[arg(long, help_heading = "Mesh")]
+    pub json: bool,
+}
+
+/// `--method`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum MethodArg {
+    /// Polygon-based triangulation (§IV-B2).
+    Polygon,
+    /// Point-based triangulation (§IV-B1).
+    Point,
+    /// Boundary vertices only (the paper's baseline).
+    Boundary,
+}
+
+impl From<MethodArg> for Method {
+    fn from(m: MethodArg) -> Self {
+        match m {
+            MethodArg::Polygon => Method::Polygon,
+            MethodArg::Point => Method::Point,
+            MethodArg::Boundary => Method::Boundary,
+        }
+    }
+}
+
+/// What a depth frame brings besides its cloud: the camera, for `--plot`.
+struct Frame {
+    camera: Option<render::Camera>,
+}
+
+/// Runs `polylidar mesh`.
+///
+/// # Errors
+/// Unreadable input or colours, bad parameters, unwritable output.
+pub fn mesh(args: &MeshArgs) -> Result<Outcome, CliError> {
+    let stride = args.input.stride as usize;
+    let path = args.input.input.as_deref();
+    let (Loaded { input, source, .. }, frame) = load_input(args, path, stride)?;
+    let chosen = params::config_for(&args.input, &input, None)?;
+    let polylidar = Polylidar::new(chosen.config.clone())?;
+    let extraction = run_once(&polylidar, &input)?;
+    let colors = if args.texture {
+        Some(colors_for(args, path, stride, &extraction)?)
+    } else {
+        None
+    };
+    let options = mesh_options(args)?;
+    let started = Instant::now();
+    let meshes = extraction.planar_meshes(colors.as_deref(), &options)?;
+    let packing = if args.per_plane {
+        Packing::PerPlane
+    } else {
+        Packing::Atlas
+    };
+    let merged = meshes.merged(packing);
+    let mesh_seconds = started.elapsed().as_secs_f64();
+    for (k, why) in &meshes.skipped {
+        eprintln!("warning: plane {k} not meshed: {why}");
+    }
+    let files = write_mesh(&args.output, &meshes, &merged)?;
+    if let Some(plot) = &args.plot {
+        let textures: Vec<_> = meshes
+            .planes
+            .iter()
+            .map(|(_, m)| m.texture.as_ref())
+            .collect();
+        let png = render::render(&merged, &textures, frame.camera, polylidar.config().up).map_err(
+            |message| CliError::Write {
+                path: plot.clone(),
+                message,
+            },
+        )?;
+        write(plot, &png)?;
+    }
+    report(
+        args,
+        &source,
+        &extraction,
+        &meshes,
+        &merged,
+        mesh_seconds,
+        &files,
+    );
+    Ok(Outcome::Done)
+}
+
+fn mesh_options(args: &MeshArgs) -> Result<MeshOptions, CliError> {
+    let mut options = MeshOptions::new()
+        .with_method(args.method.into())
+        .with_conforming(args.conforming);
+    if let Some(d) = args.depth {
+        options = options.with_depth(Depth::Fixed(d));
+    }
+    if args.texture {
+        let resolution = match args.resolution.as_deref() {
+            None => Resolution::default(),
+            Some("auto") => Resolution::FromDensity,
+            Some(text) => match text.parse::<f64>() {
+                Ok(r) if r.is_finite() && r > 0.0 => Resolution::PerUnit(r),
+                _ => {
+                    return Err(CliError::Unsupported {
+                        what: format!("--resolution {text}: texels per unit (> 0) or `auto`"),
+                    });
+                }
+            },
+        };
+        options = options.with_texture(TextureOptions::new().with_resolution(resolution));
+    }
+    Ok(options)
+}
+
+/// The input, reading a depth PNG with `--intrinsics` here (without them the shared
+/// loader wants a RealSense `_metadata.csv`).
+fn load_input(
+    args: &MeshArgs,
+    path: Option<&Path>,
+    stride: usize,
+) -> Result<(Loaded, Frame), CliError> {
+    let depth_png = path.filter(|p| polylidar_io::format_of(p) == Some(Format::DepthPng));
+    let (Some(png), Some(camera_file)) = (depth_png, args.intrinsics.as_deref()) else {
+        let loaded = load(path, args.input.demo, stride)?;
+        let camera = match (depth_png, &loaded.input) {
+            (Some(png), Input::Organized(cloud)) => {
+                let k =
+                    polylidar_io::read_realsense_intrinsics(polylidar_io::metadata_path_for(png)?)?;
+                Some((
+                    Intrinsics::new(
+                        k.fx / stride as f64,
+                        k.fy / stride as f64,
+                        k.ppx / stride as f64,
+                        k.ppy / stride as f64,
+                    ),
+                    cloud.cols(),
+                    cloud.rows(),
+                ))
+            }
+            _ => None,
+        };
+        return Ok((loaded, Frame { camera }));
+    };
+    if !(args.depth_scale.is_finite() && args.depth_scale > 0.0) {
+        return Err(CliError::Unsupported {
+            what: format!(
+                "--depth-scale {}: depth units per metre (> 0)",
+                args.depth_scale
+            ),
+        });
+    }
+    let image = polylidar_io::read_depth_png(png)?;
+    let (fx, fy, cx, cy) = read_intrinsics(camera_file, image.width, image.height)?;
+    let options = DepthOptions::new(Intrinsics::new(fx, fy, cx, cy))
+        .with_depth_scale(1.0 / args.depth_scale)
+        .with_stride(stride);
+    let cloud =
+        OrganizedPointCloud::from_depth_image(&image.data, image.height, image.width, &options)?;
+    let s = stride as f64;
+    let camera = Some((
+        Intrinsics::new(fx / s, fy / s, cx / s, cy / s),
+        cloud.cols(),
+        cloud.rows(),
+    ));
+    Ok((
+        Loaded {
+            input: Input::Organized(cloud),
+            source: png.display().to_string(),
+            truth: None,
+        },
+        Frame { camera },
+    ))
+}
+
+/// `(fx, fy, cx, cy)` from an Open3D camera JSON or a RealSense metadata CSV, checked
+/// against the image size.
+fn read_intrinsics(
+    path: &Path,
+    width: usize,
+    height: usize,
+) -> Result<(f64, f64, f64, f64), CliError> {
+    let bad = |message: String| CliError::Config {
+        path: path.to_path_buf(),
+        message,
+    };
+    let is_json = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("json"));
+    let (w, h, k) = if is_json {
+        let text = std::fs::read_to_string(path).map_err(|e| bad(e.to_string()))?;
+        let value: serde_json::Value =
+            serde_json::from_str(&text).map_err(|e| bad(e.to_string()))?;
+        let size = |key: &str| {
+            value
+                .get(key)
+                .and_then(serde_json::Value::as_u64)
+                .map(|v| v as usize)
+        };
+        let matrix: Vec<f64> = value
+            .get("intrinsic_matrix")
+            .and_then(serde_json::Value::as_array)
+            .map(|a| a.iter().filter_map(serde_json::Value::as_f64).collect())
+            .unwrap_or_default();
+        let (Some(w), Some(h), [fx, _, _, _, fy, _, cx, cy, _]) =
+            (size("width"), size("height"), matrix.as_slice())
+        else {
+            return Err(bad(
+                "expected `width`, `height` and a 9-number column-major `intrinsic_matrix`"
+                    .to_owned(),
+            ));
+        };
+        (w, h, (*fx, *fy, *cx, *cy))
+    } else {
+        let k = polylidar_io::read_realsense_intrinsics(path)?;
+        (k.width, k.height, (k.fx, k.fy, k.ppx, k.ppy))
+    };
+    if (w, h) != (width, height) {
+        return Err(bad(format!(
+            "intrinsics for {w} × {h}, the depth image is {width} × {height}"
+        )));
+    }
+    Ok(k)
+}
+
+/// One colour per vertex of the extraction's mesh, from the input's own colours.
+fn colors_for(
+    args: &MeshArgs,
+    path: Option<&Path>,
+    stride: usize,
+    extraction: &Extraction,
+) -> Result<Vec<[u8; 3]>, CliError> {
+    let none = |why: &str| CliError::Unsupported {
+        what: format!("--texture needs colours: {why}"),
+    };
+    let path = path.ok_or_else(|| none("the built-in demos have none"))?;
+    let colors = match polylidar_io::format_of(path) {
+        Some(Format::DepthPng) => {
+            let picture = match &args.color {
+                Some(c) => c.clone(),
+                None => polylidar_io::color_path_for(path)?,
+            };
+            let image = polylidar_io::read_color_image(&picture)?;
+            downsample(&image, stride, &picture)?
+        }
+        Some(Format::Pcd) => polylidar_io::read_pcd_colors(path)?
+            .ok_or_else(|| none("the PCD file has no rgb or rgba field"))?,
+        Some(Format::Ply) => polylidar_io::read_ply_colors(path)?
+            .ok_or_else(|| none("the PLY file has no red, green, blue vertex properties"))?,
+        _ => {
+            return Err(none(
+                "only depth PNGs (with their colour picture), PCD and PLY files carry them",
+            ));
+        }
+    };
+    let vertices = extraction.mesh.num_vertices();
+    if colors.len() != vertices {
+        return Err(none(&format!(
+            "{} colours for {vertices} points of the mesh",
+            colors.len()
+        )));
+    }
+    Ok(colors)
+}
+
+/// Every `stride`-th row and column of a colour picture, as the depth image's cloud.
+fn downsample(image: &ColorImage, stride: usize, path: &Path) -> Result<Vec<[u8; 3]>, CliError> {
+    if image.width == 0 || image.height == 0 {
+        return Err(CliError::Unsupported {
+            what: format!("{}: an empty picture", path.display()),
+        });
+    }
+    Ok((0..image.height)
+        .step_by(stride)
+        .flat_map(|r| {
+            (0..image.width)
+                .step_by(stride)
+                .map(move |c| image.rgb[r * image.width + c])
+        })
+        .collect())
+}
+
+/// Writes OBJ, MTL, PNG(s) and PLY beside `output`; returns the files written.
+fn write_mesh(
+    output: &Path,
+    meshes: &polylidar::PlanarMeshes,
+    merged: &MergedMesh,
+) -> Result<Vec<PathBuf>, CliError> {
+    let stem = output
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "mesh".to_owned());
+    let beside = |name: String| output.with_file_name(name);
+    let texture_name = |plane: usize| match merged.packing {
+        Packing::Atlas => format!("{stem}.png"),
+        Packing::PerPlane => format!("{stem}_plane_{plane}.png"),
+    };
+    let mtl_name = format!("{stem}.mtl");
+    let mut files = Vec::new();
+    let mut put = |path: PathBuf, bytes: &[u8]| -> Result<(), CliError> {
+        write(&path, bytes)?;
+        files.push(path);
+        Ok(())
+    };
+    put(
+        output.to_path_buf(),
+        export::obj_text(merged, Some(&mtl_name)).as_bytes(),
+    )?;
+    put(
+        beside(mtl_name.clone()),
+        export::mtl_text(merged, texture_name).as_bytes(),
+    )?;
+    if let Some(atlas) = &merged.atlas {
+        put(
+            beside(texture_name(0)),
+            &export::png_bytes(atlas.width, atlas.height, &atlas.rgb)?,
+        )?;
+    } else if !merged.uv.is_empty() {
+        for (plane, mesh) in &meshes.planes {
+            if let Some(t) = &mesh.texture {
+                put(
+                    beside(texture_name(*plane)),
+                    &export::png_bytes(t.width, t.height, &t.rgb)?,
+                )?;
+            }
+        }
+    }
+    let textures: Vec<_> = meshes
+        .planes
+        .iter()
+        .map(|(_, m)| m.texture.as_ref())
+        .collect();
+    let by_plane: Vec<_> = {
+        let mut v = vec![None; meshes.planes.iter().map(|(k, _)| k + 1).max().unwrap_or(0)];
+        for ((k, _), t) in meshes.planes.iter().zip(&textures) {
+            v[*k] = *t;
+        }
+        v
+    };
+    let colors = export::vertex_colors(merged, &by_plane);
+    let ply_texture = (merged.packing == Packing::Atlas).then(|| texture_name(0));
+    put(
+        beside(format!("{stem}.ply")),
+        &export::ply_bytes(merged, ply_texture.as_deref(), &colors),
+    )?;
+    Ok(files)
+}
+
+fn report(
+    args: &MeshArgs,
+    source: &str,
+    extraction: &Extraction,
+    meshes: &polylidar::PlanarMeshes,
+    merged: &MergedMesh,
+    mesh_seconds: f64,
+    files: &[PathBuf],
+) {
+    let points: usize = meshes.planes.iter().map(|(_, m)| m.stats.points).sum();
+    let kept: usize = meshes
+        .planes
+        .iter()
+        .map(|(_, m)| m.stats.kept_vertices())
+        .sum();
+    let full: usize = meshes
+        .planes
+        .iter()
+        .map(|(k, _)| extraction.polygons[*k].triangles.len())
+        .sum();
+    let texels: usize = meshes
+        .planes
+        .iter()
+        .filter_map(|(_, m)| m.texture.as_ref())
+        .map(|t| t.width as usize * t.height as usize)
+        .sum();
+    if args.json {
+        let value = serde_json::json!({
+            "input": source,
+            "method": format!("{:?}", args.method).to_lowercase(),
+            "planes": meshes.planes.len(),
+            "skipped": meshes.skipped.iter().map(|(k, e)| serde_json::json!({"plane": k, "reason": e.to_string()})).collect::<Vec<_>>(),
+            "planar_points": points,
+            "kept_vertices": kept,
+            "triangles": merged.triangles.len(),
+            "segment_triangles": full,
+            "texels": texels,
+            "extract_ms": 1e3 * extraction.diagnostics.timings.total().as_secs_f64(),
+            "mesh_ms": 1e3 * meshes.seconds,
+            "mesh_and_merge_ms": 1e3 * mesh_seconds,
+            "files": files.iter().map(|f| f.display().to_string()).collect::<Vec<_>>(),
+        });
+        println!("{value}");
+        return;
+    }
+    let pct = |a: usize, b: usize| 100.0 * a as f64 / b.max(1) as f64;
+    println!(
+        "{source}: {} planes meshed ({} skipped)",
+        meshes.planes.len(),
+        meshes.skipped.len()
+    );
+    println!(
+        "  vertices kept {kept} of {points} planar points ({:.1} %), triangles {} of {full} ({:.1} %)",
+        pct(kept, points),
+        merged.triangles.len(),
+        pct(merged.triangles.len(), full)
+    );
+    if texels > 0 {
+        println!("  texture {texels} texels");
+    }
+    println!(
+        "  {:.1} ms after plane extraction ({:.1} ms meshing{})",
+        1e3 * mesh_seconds,
+        1e3 * meshes.seconds,
+        if texels > 0 { " and texturing" } else { "" }
+    );
+    for f in files {
+        println!("  wrote {}", f.display());
+    }
+}
