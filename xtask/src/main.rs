@@ -71,7 +71,8 @@ struct BenchArgs {
     #[arg(long)]
     threads: Option<String>,
     /// Only these tables (comma-separated): fastga (2), smoothing (12, 13), realsense (8),
-    /// shapes (2d), scaling (21), synpeb-timing (11), synpeb-accuracy (10).
+    /// shapes (2d), scaling (21), synpeb-timing (11), synpeb-accuracy (10), planar-mesh
+    /// (Ma et al. 2013, I–III).
     #[arg(long)]
     only: Option<String>,
 }

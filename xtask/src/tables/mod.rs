@@ -3,6 +3,7 @@
 mod accuracy;
 mod fastga;
 mod pipeline;
+mod planar_mesh;
 mod realsense;
 mod rgbd_accuracy;
 mod scaling;
@@ -72,6 +73,12 @@ pub const ALL: &[TableSpec] = &[
         aliases: &["10", "table10"],
         files: &["table10_synpeb_accuracy.md"],
         run: synpeb_accuracy::run,
+    },
+    TableSpec {
+        key: "planar-mesh",
+        aliases: &["ma", "ma2013", "mesh", "i", "ii"],
+        files: &["planar_mesh.md", "planar_mesh_angles.png"],
+        run: planar_mesh::run,
     },
     TableSpec {
         key: "rgbd-accuracy",
