@@ -41,6 +41,7 @@
 //! centroid and the spread are the area-weighted moments of the triangle centroids.
 
 use halfedge_mesh::{HalfEdgeMesh, NO_TWIN};
+use rayon::prelude::*;
 
 use crate::vec3::{Vec3, add, corners, cross, dot, scale, sub, unit};
 use crate::{NO_GROUP, SegmentationConfig};
@@ -299,6 +300,23 @@ impl Mesh<'_> {
         }
         sums
     }
+
+    /// [`Self::sums`] of each segment, chunks of every segment in parallel (one large
+    /// segment, the floor, would otherwise keep one thread busy), added up in a fixed order
+    /// so that the result does not depend on the thread count.
+    fn sums_of(&self, segments: &[Grown]) -> Vec<PlaneSums> {
+        let chunks: Vec<(usize, &[u32])> = segments
+            .iter()
+            .enumerate()
+            .flat_map(|(s, g)| g.triangles.chunks(SUMS_CHUNK).map(move |c| (s, c)))
+            .collect();
+        let parts: Vec<PlaneSums> = chunks.par_iter().map(|&(_, c)| self.sums(c)).collect();
+        let mut sums = vec![PlaneSums::default(); segments.len()];
+        for (&(s, _), part) in chunks.iter().zip(&parts) {
+            sums[s] = sums[s].merged(part);
+        }
+        sums
+    }
 }
 
 /// Refines the segments grown by dominant normal (`grown`: group and triangles, each of
@@ -347,10 +365,7 @@ pub(crate) fn refine(
             labels[t as usize] = s as u32;
         }
     }
-    let mut sums: Vec<PlaneSums> = {
-        use rayon::prelude::*;
-        grown.par_iter().map(|g| m.sums(&g.triangles)).collect()
-    };
+    let mut sums = m.sums_of(&grown);
     let seeds: Vec<u32> = grown
         .iter()
         .flat_map(|g| g.boundary.iter().map(|&h| h / 3))
@@ -433,29 +448,46 @@ fn absorb(
     labels: &mut [u32],
     segments: &mut [(u32, Vec<u32>)],
     sums: &mut [PlaneSums],
-    mut queue: Vec<u32>,
+    queue: Vec<u32>,
 ) -> usize {
     let planes: Vec<Option<Plane>> = sums.iter().map(PlaneSums::plane).collect();
     let mut absorbed = 0;
-    let mut next = 0;
-    while next < queue.len() {
-        let t = queue[next];
-        next += 1;
-        let s = labels[t as usize];
-        let Some(plane) = planes[s as usize] else {
-            continue;
-        };
-        for u in m.neighbours(t) {
-            if u == NONE || labels[u as usize] != NONE {
+    // Level by level: the triangles that fit, found in parallel, then claimed in the order
+    // of the level (first come, first served, as a first-in first-out queue would).
+    let mut level = queue;
+    while !level.is_empty() {
+        let found: Vec<Vec<(u32, u32)>> = level
+            .par_chunks(ABSORB_CHUNK)
+            .map(|chunk| {
+                let mut found = Vec::new();
+                for &t in chunk {
+                    let s = labels[t as usize];
+                    let Some(plane) = planes[s as usize] else {
+                        continue;
+                    };
+                    for u in m.neighbours(t) {
+                        if u != NONE
+                            && labels[u as usize] == NONE
+                            && m.usable(u)
+                            && m.fits(u, &plane)
+                        {
+                            found.push((u, s));
+                        }
+                    }
+                }
+                found
+            })
+            .collect();
+        level = Vec::new();
+        for (u, s) in found.into_iter().flatten() {
+            if labels[u as usize] != NONE {
                 continue;
             }
-            if m.usable(u) && m.fits(u, &plane) {
-                labels[u as usize] = s;
-                segments[s as usize].1.push(u);
-                sums[s as usize].add_triangle(m.corners(u));
-                queue.push(u);
-                absorbed += 1;
-            }
+            labels[u as usize] = s;
+            segments[s as usize].1.push(u);
+            sums[s as usize].add_triangle(m.corners(u));
+            level.push(u);
+            absorbed += 1;
         }
     }
     absorbed
@@ -534,28 +566,22 @@ fn merge(
     segments: Vec<(u32, Vec<u32>)>,
     mut sums: Vec<PlaneSums>,
 ) -> Merged {
-    let mut pairs: Vec<(u32, u32)> = Vec::new();
     // Interior triangles (all neighbours in the same segment) per segment, counted in the
     // same pass; triangles on a segment's edge may become interior by merging, and are
-    // looked at again afterwards.
+    // looked at again afterwards. Chunks of triangles in parallel, joined in order.
+    let chunks: Vec<Adjacency> = labels
+        .par_chunks(ADJACENCY_CHUNK)
+        .enumerate()
+        .map(|(c, chunk)| adjacency(m, labels, c * ADJACENCY_CHUNK, chunk, segments.len()))
+        .collect();
+    let mut pairs: Vec<(u32, u32)> = Vec::new();
     let mut interior = vec![0usize; segments.len()];
     let mut edges: Vec<u32> = Vec::new();
-    for (t, &a) in labels.iter().enumerate() {
-        if a == NONE {
-            continue;
-        }
-        let mut inside = true;
-        for u in m.neighbours(t as u32) {
-            let b = if u == NONE { NONE } else { labels[u as usize] };
-            inside &= b == a;
-            if b != NONE && a < b {
-                pairs.push((a, b));
-            }
-        }
-        if inside {
-            interior[a as usize] += 1;
-        } else {
-            edges.push(t as u32);
+    for chunk in chunks {
+        pairs.extend(chunk.pairs);
+        edges.extend(chunk.edges);
+        for (total, part) in interior.iter_mut().zip(chunk.interior) {
+            *total += part;
         }
     }
     pairs.sort_unstable();
@@ -643,6 +669,59 @@ fn merge(
     }
 }
 
+/// Triangles of a breadth-first level per task in [`absorb`].
+const ABSORB_CHUNK: usize = 1024;
+
+/// Triangles per task of [`Mesh::sums_of`].
+const SUMS_CHUNK: usize = 8192;
+
+/// Triangles per task of the adjacency pass of [`merge`].
+const ADJACENCY_CHUNK: usize = 16_384;
+
+/// What the triangles of one chunk say about the segments: the pairs of segments that
+/// share an edge (once per shared edge, lower label first), interior triangles per
+/// segment, and the labelled triangles on a segment's edge.
+struct Adjacency {
+    pairs: Vec<(u32, u32)>,
+    interior: Vec<usize>,
+    edges: Vec<u32>,
+}
+
+/// [`Adjacency`] of the triangles `first..first + chunk.len()` (`chunk` their labels).
+fn adjacency(
+    m: &Mesh<'_>,
+    labels: &[u32],
+    first: usize,
+    chunk: &[u32],
+    segments: usize,
+) -> Adjacency {
+    let mut out = Adjacency {
+        pairs: Vec::new(),
+        interior: vec![0; segments],
+        edges: Vec::new(),
+    };
+    for (i, &a) in chunk.iter().enumerate() {
+        if a == NONE {
+            continue;
+        }
+        let t = (first + i) as u32;
+        let mut inside = true;
+        for u in m.neighbours(t) {
+            let b = if u == NONE { NONE } else { labels[u as usize] };
+            inside &= b == a;
+            if b != NONE && a < b {
+                out.pairs.push((a, b));
+            }
+        }
+        if inside {
+            out.interior[a as usize] += 1;
+        } else {
+            out.edges.push(t);
+        }
+    }
+    out
+}
+
 /// The segments after merging, their plane sums and how many interior triangles each has.
 struct Merged {
     segments: Vec<(u32, Vec<u32>)>,
@@ -652,9 +731,11 @@ struct Merged {
 
 /// Replaces every segment label `s` by `index[s]`, in one pass over the triangles.
 fn relabel(labels: &mut [u32], index: &[u32]) {
-    for label in labels.iter_mut().filter(|l| **l != NONE) {
-        *label = index[*label as usize];
-    }
+    labels
+        .par_iter_mut()
+        .with_min_len(ADJACENCY_CHUNK)
+        .filter(|l| **l != NONE)
+        .for_each(|label| *label = index[*label as usize]);
 }
 
 /// Cosine between the normals of two segments that no edge connects for them to be taken
