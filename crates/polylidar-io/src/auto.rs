@@ -5,9 +5,10 @@ use std::path::Path;
 use crate::cloud::{MeshData, PointCloud};
 use crate::depth::{CameraIntrinsics, DepthImage};
 use crate::error::{ErrorKind, Format, IoError};
+use crate::kitti::KittiScan;
 use crate::{
-    metadata_path_for, read_csv_points, read_depth_png, read_las, read_npy, read_obj, read_pcd,
-    read_ply, read_realsense_intrinsics,
+    metadata_path_for, read_csv_points, read_depth_png, read_kitti_bin, read_las, read_npy,
+    read_obj, read_pcd, read_ply, read_realsense_intrinsics,
 };
 
 /// What an input file holds, ready for the matching pipeline.
@@ -20,6 +21,8 @@ pub enum InputKind {
     Cloud(PointCloud),
     /// A triangle mesh (PLY or OBJ with faces).
     Mesh(MeshData),
+    /// A rotating-LiDAR frame (KITTI `.bin`): points in firing order, with reflectance.
+    Scan(KittiScan),
     /// A 16-bit depth image with the intrinsics from its metadata CSV.
     Depth {
         /// The depth image.
@@ -40,13 +43,15 @@ pub fn format_of(path: impl AsRef<Path>) -> Option<Format> {
         "obj" => Format::Obj,
         "las" | "laz" => Format::Las,
         "png" => Format::DepthPng,
+        "bin" => Format::KittiBin,
         _ => return None,
     })
 }
 
 /// Reads any supported input, dispatching on the extension: `.csv`/`.txt`/`.xyz` (2 or 3
 /// columns), `.npy` (N×2, N×3, H×W×3), `.pcd`, `.ply`, `.obj`, `.las`/`.laz`, `.png`
-/// (16-bit depth; intrinsics from the metadata CSV found by [`metadata_path_for`]).
+/// (16-bit depth; intrinsics from the metadata CSV found by [`metadata_path_for`]), `.bin`
+/// (KITTI Velodyne frame, [`read_kitti_bin`]).
 ///
 /// # Errors
 /// Unknown extension, or any error of the format's reader; an NPY of another shape; a depth
@@ -88,6 +93,7 @@ pub fn read_input(path: impl AsRef<Path>) -> Result<InputKind, IoError> {
         Format::Ply => mesh_or_cloud(read_ply(path)?),
         Format::Obj => mesh_or_cloud(read_obj(path)?),
         Format::Las => InputKind::Cloud(PointCloud::unorganized(read_las(path)?.points)),
+        Format::KittiBin => InputKind::Scan(read_kitti_bin(path)?),
         Format::DepthPng => {
             let image = read_depth_png(path)?;
             let meta = metadata_path_for(path)?;

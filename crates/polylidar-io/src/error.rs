@@ -24,6 +24,8 @@ pub enum Format {
     Las,
     /// An RGB picture (8-bit PNG or JPEG), the colour of an RGB-D frame.
     ColorImage,
+    /// KITTI Velodyne `.bin` (float32 records `x y z reflectance`).
+    KittiBin,
     /// Not known yet (dispatch by extension failed).
     Unknown,
 }
@@ -40,6 +42,7 @@ impl fmt::Display for Format {
             Format::Obj => "OBJ",
             Format::Las => "LAS/LAZ",
             Format::ColorImage => "colour picture",
+            Format::KittiBin => "KITTI .bin",
             Format::Unknown => "input",
         })
     }
@@ -122,8 +125,20 @@ pub enum ErrorKind {
         /// Paths looked at, in order.
         tried: Vec<PathBuf>,
     },
+    /// A value that must be a finite number is NaN or infinite.
+    #[error("record {record}: field `{field}` is {value}, not a finite number")]
+    NonFinite {
+        /// 0-based record (point) number.
+        record: usize,
+        /// The field's name.
+        field: &'static str,
+        /// The value found, as text (`NaN`, `inf`, `-inf`).
+        value: String,
+    },
     /// The file extension does not name a supported input.
-    #[error("unknown extension {0:?} (expected .csv .txt .xyz .npy .pcd .ply .obj .las .laz .png)")]
+    #[error(
+        "unknown extension {0:?} (expected .csv .txt .xyz .npy .pcd .ply .obj .las .laz .png .bin)"
+    )]
     UnknownExtension(String),
     /// The data is valid for its format but not usable as the requested input.
     #[error("{0}")]

@@ -9,6 +9,7 @@
 //! | text tables of 2D/3D points | [`read_csv_points`] | — |
 //! | PLY ascii / binary (both byte orders) | [`read_ply`] | [`write_ply`] (binary little-endian) |
 //! | Wavefront OBJ (`v`, `f`) | [`read_obj`] | — |
+//! | KITTI Velodyne `.bin` (float32 `x y z reflectance`, firing order kept) | [`read_kitti_bin`] → [`KittiScan`] | [`write_kitti_bin`] |
 //! | LAS / LAZ (via the `las` crate), with the length unit of the header ([`LengthUnit`]) | [`read_las`], [`read_las_unit`] | — |
 //! | colour: RGB pictures (8/16-bit PNG, JPEG) of RGB-D frames, PCD `rgb`/`rgba`, PLY `red green blue` | [`read_color_image`] (+ [`color_path_for`]), [`read_pcd_colors`], [`read_ply_colors`] | — |
 //!
@@ -48,6 +49,7 @@ mod colorized;
 mod csv;
 mod depth;
 mod error;
+mod kitti;
 mod lidar;
 pub mod lzf;
 mod npy;
@@ -69,6 +71,10 @@ pub use depth::{
     parse_realsense_intrinsics, read_depth_png, read_realsense_intrinsics, write_depth_png,
 };
 pub use error::{ErrorKind, Format, IoError};
+pub use kitti::{
+    KITTI_RECORD_BYTES, KittiScan, encode_kitti_bin, parse_kitti_bin, read_kitti_bin,
+    write_kitti_bin,
+};
 pub use lidar::{parse_las, read_las, read_las_unit};
 pub use npy::{
     Dtype, NpyArray, encode_npy_f32, encode_npy_f64, encode_npy_i32, parse_npy, read_npy,

@@ -10,8 +10,8 @@ use std::sync::OnceLock;
 use polylidar_io::{
     DepthImage, MeshData, PcdEncoding, PcdScalar, PcdWriteOptions, PointCloud, encode_depth_png,
     encode_npy_f32, encode_npy_f64, encode_npy_i32, encode_pcd, encode_ply, lzf,
-    parse_colorized_depth_png, parse_csv_points, parse_depth_png, parse_las, parse_npy, parse_obj,
-    parse_pcd, parse_pcd_fields, parse_ply, parse_realsense_intrinsics,
+    parse_colorized_depth_png, parse_csv_points, parse_depth_png, parse_kitti_bin, parse_las,
+    parse_npy, parse_obj, parse_pcd, parse_pcd_fields, parse_ply, parse_realsense_intrinsics,
 };
 use proptest::prelude::*;
 
@@ -27,6 +27,7 @@ fn parse_everything(bytes: &[u8]) {
     let _ = parse_colorized_depth_png(bytes);
     let _ = parse_realsense_intrinsics(&String::from_utf8_lossy(bytes));
     let _ = lzf::decompress(bytes, bytes.len() * 3);
+    let _ = parse_kitti_bin(bytes);
 }
 
 fn small_cloud() -> PointCloud {

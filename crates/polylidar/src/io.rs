@@ -49,7 +49,8 @@ pub enum Input {
 impl Input {
     /// Reads a file by its extension ([`polylidar_io::read_input`]): 2D points (CSV / NPY
     /// with 2 columns), clouds (PCD, NPY, CSV, LAS / LAZ, PLY / OBJ without faces; organized
-    /// when they have a grid), meshes (PLY / OBJ with faces) and 16-bit depth PNGs with
+    /// when they have a grid; KITTI Velodyne `.bin` frames in firing order), meshes (PLY /
+    /// OBJ with faces) and 16-bit depth PNGs with
     /// their RealSense `_metadata.csv` (turned into an organized cloud with
     /// [`OrganizedPointCloud::from_depth_image`]).
     ///
@@ -79,6 +80,9 @@ impl Input {
                 OrganizedPointCloud::new(cloud.rows, cloud.cols, cloud.points)?,
             ),
             InputKind::Cloud(cloud) => Input::Cloud(cloud.points),
+            // Firing order is kept (the beams are recovered from it); reflectance stays
+            // with `polylidar_io::read_kitti_bin`.
+            InputKind::Scan(scan) => Input::Cloud(scan.points),
             InputKind::Mesh(mesh) => Input::Mesh {
                 vertices: mesh.vertices,
                 triangles: mesh.triangles,
