@@ -6,7 +6,9 @@
 //!   numpy `(H, W, 3)` `float64` array, for example).
 //! * [`OrganizedPointCloud::from_depth_image`] back-projects a 16-bit depth image through
 //!   pinhole [`Intrinsics`] ([`DepthOptions`]: depth scale, stride, maximum depth);
-//!   [`OrganizedPointCloud::downsample`] keeps every k-th row and column.
+//!   [`OrganizedPointCloud::downsample`] keeps every k-th row and column;
+//!   [`OrganizedPointCloud::fill_missing`] puts back isolated missing returns
+//!   ([`FillOptions`]).
 //! * [`OrganizedPointCloud::mesh`] (or [`OrganizedPointCloud::into_mesh`], which moves the
 //!   points into the mesh) builds a [`HalfEdgeMesh`](halfedge_mesh::HalfEdgeMesh) with
 //!   twins and, if asked, unit triangle normals, plus the [`TriangleMap`] from the
@@ -39,6 +41,7 @@
 mod cloud;
 mod depth;
 mod error;
+mod fill;
 mod mesh;
 mod rightcut;
 mod triangle_map;
@@ -47,6 +50,7 @@ mod view;
 pub use cloud::{OrganizedPointCloud, is_valid};
 pub use depth::{DepthOptions, Intrinsics};
 pub use error::OpcError;
+pub use fill::FillOptions;
 pub use mesh::{OpcMesh, OpcMeshOptions};
 pub use triangle_map::{CellTriangle, NO_TRIANGLE, TriangleMap};
 pub use view::OrganizedPointCloudView;

@@ -258,12 +258,26 @@ fn parameters_line(run: &Run<'_>) -> String {
             Some(l) => parts.push(format!(
                 "Laplacian {} ({})",
                 count(run.counts.laplacian_iterations as usize, "pass", "passes"),
-                match l.iterations {
-                    polylidar::LaplacianIterations::Auto => "chosen from the measured noise",
-                    polylidar::LaplacianIterations::Fixed(_) => "fixed",
+                match (l.iterations, l.range_exponent > 0.0) {
+                    (polylidar::LaplacianIterations::Auto, false) => {
+                        "chosen from the measured noise"
+                    }
+                    (polylidar::LaplacianIterations::Auto, true) => {
+                        "chosen from the measured noise, at the median range; more farther away"
+                    }
+                    (polylidar::LaplacianIterations::Fixed(_), false) => "fixed",
+                    (polylidar::LaplacianIterations::Fixed(_), true) => {
+                        "fixed at the median range; more farther away"
+                    }
                 }
             )),
             None => parts.push("no Laplacian".to_owned()),
+        }
+        if config.fill_missing.is_some() {
+            parts.push(format!(
+                "{} filled",
+                count(run.counts.filled, "missing return", "missing returns")
+            ));
         }
     }
     parts.join("; ")

@@ -2,6 +2,7 @@
 
 use fastga::FastGaConfig;
 use mesh_smooth_gpu::{Backend, BilateralOptions, LaplacianOptions};
+use opc_mesh::FillOptions;
 use planeseg::SegmentationConfig;
 use polypost::PostprocessConfig;
 use serde::{Deserialize, Serialize};
@@ -62,6 +63,44 @@ pub struct Config {
     /// explains, merge neighbouring segments of one plane; see
     /// [`planeseg::SegmentationConfig::refine`]). Off in the papers' presets.
     pub refine: bool,
+    /// Organized clouds: fill isolated missing returns before smoothing and meshing (see
+    /// [`opc_mesh::OrganizedPointCloud::fill_missing`]); their labels stay `-1` in
+    /// [`crate::Extraction::point_labels`] and [`crate::Extraction::plane_labels`], as the
+    /// input has no measurement there. Absent = off.
+    pub fill_missing: Option<FillConfig>,
+}
+
+/// When an organized cloud's missing pixel is filled ([`Config::fill_missing`]): from at
+/// least `min_neighbours` of its 8 neighbours whose ranges spread by at most `max_spread`
+/// of the nearest (they lie on one surface).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct FillConfig {
+    /// Valid neighbours needed, 1–8. Default 4.
+    pub min_neighbours: u8,
+    /// Largest spread of their ranges, as a share of the nearest. Default 0.03.
+    pub max_spread: f64,
+}
+
+impl Default for FillConfig {
+    /// The filler's own defaults ([`FillOptions::default`]).
+    fn default() -> Self {
+        let o = FillOptions::default();
+        Self {
+            min_neighbours: o.min_neighbours,
+            max_spread: o.max_spread,
+        }
+    }
+}
+
+impl FillConfig {
+    /// The filler's options.
+    pub fn options(&self) -> FillOptions {
+        FillOptions {
+            min_neighbours: self.min_neighbours,
+            max_spread: self.max_spread,
+        }
+    }
 }
 
 /// Laplacian vertex filter parameters (Polylidar3D Eq. 1–2).
@@ -390,6 +429,7 @@ impl Default for Config {
             fastga: FastGaSection::default(),
             postprocess: None,
             refine: false,
+            fill_missing: None,
         }
     }
 }
@@ -484,6 +524,12 @@ impl Config {
         self
     }
 
+    /// Sets [`Config::fill_missing`] (`None`: missing returns stay missing).
+    pub fn with_fill_missing(mut self, fill_missing: Option<FillConfig>) -> Self {
+        self.fill_missing = fill_missing;
+        self
+    }
+
     /// The parameters of a named preset from the papers (see [`PRESETS`]), or `None`.
     ///
     /// * `rgbd` (Table 7): Laplacian λ 1, k 3, 2 it; bilateral σl 0.1, σa 0.15, k 3, 2 it;
@@ -507,7 +553,8 @@ impl Config {
     /// * `rgbd-auto`: the adaptive detector for depth cameras: `synpeb-auto` with the
     ///   Laplacian passes growing with range ([`LaplacianConfig::range_exponent`] 1), as
     ///   the depth error of stereo and structured-light cameras, relative to the point
-    ///   spacing, does.
+    ///   spacing, does, and isolated missing returns filled ([`Config::fill_missing`]:
+    ///   4 of 8 neighbours within 3 % in range).
     /// * `rooftop` (Table 3): Laplacian λ 1, 2 it; bilateral σ 0.1 / 0.1, 2 it; normal =
     ///   `up`; min_triangles 200, norm 0.94, lmax 0.9, hole vertices 8, z 0.2; post α 0.1,
     ///   β_neg 0.1, β_pos 0, γ 16, δ 0.5.
@@ -575,6 +622,7 @@ impl Config {
                     norm_thresh: 0.95,
                     min_hole_vertices: 50,
                     refine: adaptive,
+                    fill_missing: (name == "rgbd-auto").then(FillConfig::default),
                     ..base
                 }
             }
@@ -662,6 +710,22 @@ impl Config {
                 l.range_exponent.to_string(),
                 "must be in [0, 4]",
             );
+        }
+        if let Some(f) = &self.fill_missing {
+            if !(1..=8).contains(&f.min_neighbours) {
+                return bad(
+                    "fill_missing.min_neighbours",
+                    f.min_neighbours.to_string(),
+                    "must be 1–8",
+                );
+            }
+            if !(f.max_spread.is_finite() && f.max_spread >= 0.0) {
+                return bad(
+                    "fill_missing.max_spread",
+                    f.max_spread.to_string(),
+                    "must be a finite share ≥ 0",
+                );
+            }
         }
         if !(self.z_thresh.is_finite() && self.z_thresh >= 0.0) {
             return bad(

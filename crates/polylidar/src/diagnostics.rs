@@ -44,6 +44,8 @@ pub struct Counts {
     pub postprocessed_polygons: usize,
     /// Polygons dropped by post-processing (area below γ, or not repairable).
     pub postprocess_dropped: usize,
+    /// 3D organized clouds: missing pixels filled ([`crate::Config::fill_missing`]).
+    pub filled: usize,
     /// 3D organized clouds: Laplacian passes run (the configured count, or the one
     /// predicted for `iterations = "auto"`); 0 without Laplacian smoothing.
     pub laplacian_iterations: u32,
@@ -51,7 +53,7 @@ pub struct Counts {
 
 /// Wall-clock time per pipeline stage, in execution order.
 ///
-/// Stage names: `mesh` (triangulation or meshing, normals included), `laplacian`
+/// Stage names: `fill` (organized clouds: missing returns filled), `mesh` (triangulation or meshing, normals included), `laplacian`
 /// (with `iterations = "auto"`, the noise estimate too), `bilateral` (smoothing), `fastga` (dominant normals: integration and peaks), `regions`
 /// (2D / 2.5D triangle filtering and region growing), `polygons` (2D / 2.5D boundary
 /// following), `planes_polygons` (3D group assignment, region growing and polygon

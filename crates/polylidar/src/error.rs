@@ -31,6 +31,9 @@ pub enum PolylidarError {
     /// The organized cloud could not be built or meshed.
     #[error(transparent)]
     Organized(#[from] opc_mesh::OpcError),
+    /// A rotating scan that cannot be prepared (bad parameter, points not in firing order).
+    #[error(transparent)]
+    Scan(#[from] rotating_scan::ScanError),
     /// A smoothing filter failed (bad options, no GPU adapter, …).
     #[error(transparent)]
     Smooth(#[from] mesh_smooth_gpu::SmoothError),

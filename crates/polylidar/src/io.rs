@@ -144,7 +144,8 @@ impl Input {
 }
 
 impl Polylidar {
-    /// Runs the pipeline that fits `input`: [`Self::extract_2d`], [`Self::extract_25d`],
+    /// Runs the pipeline that fits `input`: [`Self::extract_2d`], [`Self::extract_25d`]
+    /// (or [`Self::extract_scan`] for a cloud when [`crate::Config::scan`] is set),
     /// [`Self::extract_organized`] or [`Self::extract_mesh`] (which takes its own copy of
     /// the mesh).
     ///
@@ -161,6 +162,7 @@ impl Polylidar {
     pub fn extract(&self, input: &Input) -> Result<Extraction, PolylidarError> {
         match input {
             Input::Points2d(points) => self.extract_2d(points),
+            Input::Cloud(points) if self.config().scan.is_some() => self.extract_scan(points),
             Input::Cloud(points) => self.extract_25d(points),
             Input::Organized(cloud) => self.extract_organized(cloud),
             Input::Mesh {

@@ -52,7 +52,7 @@ pub mod scale;
 pub mod shapes;
 
 pub use config::{
-    BilateralConfig, Config, FastGaSection, LaplacianConfig, LaplacianIterations,
+    BilateralConfig, Config, FastGaSection, FillConfig, LaplacianConfig, LaplacianIterations,
     MAX_RANGE_EXPONENT, PRESETS, PostprocessSection, SmoothingBackend,
 };
 pub use diagnostics::{Counts, Diagnostics, Timings};

@@ -121,6 +121,10 @@ pub struct Extraction {
     /// `z_thresh` with [`crate::Config::refine`] (the spread of points within `z_thresh`
     /// of a plane), `0` otherwise; 2D and 2.5D input leave it `0`.
     pub rim_distance: f64,
+    /// Organized clouds: the pixels [`crate::Config::fill_missing`] filled (one flag per
+    /// vertex; empty when none was). They are in the mesh and the polygons, but their
+    /// labels are `-1`: the input had no measurement there.
+    pub filled: Vec<bool>,
     /// Per-stage counts and timings.
     pub diagnostics: Diagnostics,
 }
@@ -142,7 +146,15 @@ impl Extraction {
     /// # Ok::<(), polylidar::PolylidarError>(())
     /// ```
     pub fn point_labels(&self) -> Vec<i32> {
-        self.labels(|index| index as i32)
+        self.unfilled(self.labels(|index| index as i32))
+    }
+
+    /// `labels` with `-1` for the [`Self::filled`] pixels.
+    fn unfilled(&self, mut labels: Vec<i32>) -> Vec<i32> {
+        for (label, _) in labels.iter_mut().zip(&self.filled).filter(|(_, f)| **f) {
+            *label = -1;
+        }
+        labels
     }
 
     /// The plane of every vertex, `-1` for none: what a plane segmentation is scored on
@@ -162,10 +174,12 @@ impl Extraction {
         let owner = self.labels(|index| index as i32);
         let plane_of = |polygon: i32| self.polygons[polygon as usize].plane_id as i32;
         if self.rim_distance <= 0.0 {
-            return owner
-                .into_iter()
-                .map(|o| if o < 0 { -1 } else { plane_of(o) })
-                .collect();
+            return self.unfilled(
+                owner
+                    .into_iter()
+                    .map(|o| if o < 0 { -1 } else { plane_of(o) })
+                    .collect(),
+            );
         }
         // Per vertex in no polygon: the one polygon its triangles share vertices with
         // (-1: none, -2: several).
@@ -185,7 +199,7 @@ impl Extraction {
             }
         }
         let vertices = self.mesh.vertices();
-        owner
+        let labels = owner
             .iter()
             .zip(&neighbour)
             .zip(vertices)
@@ -207,7 +221,8 @@ impl Extraction {
                     -1
                 }
             })
-            .collect()
+            .collect();
+        self.unfilled(labels)
     }
 
     /// The label `label(polygon index)` of every vertex, as [`Self::point_labels`] assigns
@@ -461,6 +476,7 @@ impl Polylidar {
             postprocessed: Vec::new(),
             dominant_normals,
             rim_distance,
+            filled: Vec::new(),
             diagnostics: Diagnostics { counts, timings },
         };
         self.postprocess(&mut extraction)?;

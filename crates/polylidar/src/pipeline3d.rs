@@ -75,11 +75,17 @@ impl Polylidar {
             let mut reuse = reuse::lock(&self.reuse);
             // The cloud the filters read (they take an owned cloud): the caller's, or a
             // copy of a borrowed one; `None` without smoothing, meshing the input itself.
-            let mut cloud: Option<Cow<'_, OrganizedPointCloud>> =
-                (config.laplacian.is_some() || config.bilateral.is_some()).then(|| match owned {
-                    Some(c) => Cow::Borrowed(c),
-                    None => Cow::Owned(input.to_cloud()),
-                });
+            let mut cloud: Option<Cow<'_, OrganizedPointCloud>> = (config.laplacian.is_some()
+                || config.bilateral.is_some()
+                || config.fill_missing.is_some())
+            .then(|| match owned {
+                Some(c) => Cow::Borrowed(c),
+                None => Cow::Owned(input.to_cloud()),
+            });
+            let mut filled = Vec::new();
+            if let (Some(f), Some(c)) = (&config.fill_missing, &mut cloud) {
+                filled = timings.time("fill", || c.to_mut().fill_missing(&f.options()));
+            }
             let mut laplacian_iterations = 0;
             if let (Some(l), Some(c)) = (&config.laplacian, &mut cloud) {
                 laplacian_iterations = timings.time("laplacian", || laplacian(&mut reuse, l, c))?;
@@ -94,14 +100,21 @@ impl Polylidar {
             }
             // `extract_planes` takes the lock again for FastGA.
             drop(reuse);
+            let filled_count = filled.iter().filter(|&&f| f).count();
             let counts = Counts {
                 points: cloud
                     .as_ref()
-                    .map_or_else(|| input.num_valid(), |c| c.num_valid()),
+                    .map_or_else(|| input.num_valid(), |c| c.num_valid())
+                    - filled_count,
                 laplacian_iterations,
+                filled: filled_count,
                 ..Counts::default()
             };
-            self.extract_planes(opc.mesh, None, counts, timings)
+            let mut extraction = self.extract_planes(opc.mesh, None, counts, timings)?;
+            if filled_count > 0 {
+                extraction.filled = filled;
+            }
+            Ok(extraction)
         })
     }
 

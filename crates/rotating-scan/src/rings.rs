@@ -154,11 +154,42 @@ impl Rings {
     /// [`ScanError::NonFinite`] for a NaN or infinite coordinate,
     /// [`ScanError::NotFiringOrder`] when more than [`MAX_BEAMS`] beams come out.
     pub fn from_firing_order(points: &[[f64; 3]]) -> Result<Self, ScanError> {
-        check_finite(points)?;
-        if points.is_empty() {
+        Self::from_firing_order_every(points, 1)
+    }
+
+    /// As [`Self::from_firing_order`], on every `n`-th point only (indices `0, n, 2n, …`;
+    /// `n ≤ 1`: all): the beams of a scan thinned as §9.2.2 thins it, at a fraction of the
+    /// cost.
+    ///
+    /// ```
+    /// use rotating_scan::Rings;
+    /// let points: Vec<[f64; 3]> = (0..720)
+    ///     .map(|k| { let a = ((k % 360) as f64 + 0.5).to_radians(); [a.cos(), a.sin(), if k < 360 { 0.1 } else { -0.1 }] })
+    ///     .collect();
+    /// let rings = Rings::from_firing_order_every(&points, 2)?;
+    /// assert_eq!(rings.len(), 2);
+    /// assert_eq!(rings.ring(1)[..2], [360, 362]);
+    /// # Ok::<(), rotating_scan::ScanError>(())
+    /// ```
+    ///
+    /// # Errors
+    /// As [`Self::from_firing_order`] (only the points taken are checked).
+    pub fn from_firing_order_every(points: &[[f64; 3]], n: usize) -> Result<Self, ScanError> {
+        let n = n.max(1);
+        if let Some(index) = (0..points.len())
+            .step_by(n)
+            .find(|&i| !points[i].iter().all(|v| v.is_finite()))
+        {
+            return Err(ScanError::NonFinite {
+                index,
+                point: points[index],
+            });
+        }
+        let taken: Vec<u32> = (0..points.len() as u32).step_by(n).collect();
+        if taken.is_empty() {
             return Ok(Self::default());
         }
-        let steps = forward_steps(points);
+        let steps = forward_steps(points, &taken);
         let mut positive: Vec<f64> = steps.iter().copied().filter(|&s| s > 0.0).collect();
         let half_step = if positive.is_empty() {
             0.0
@@ -176,7 +207,7 @@ impl Rings {
             while sweep >= (turns + 1.0) * TAU {
                 turns += 1.0;
                 starts.push(i + 1);
-                if starts.len() > MAX_BEAMS {
+                if starts.len() > MAX_BEAMS + 1 {
                     return Err(ScanError::NotFiringOrder {
                         found: starts.len(),
                         max: MAX_BEAMS,
@@ -184,9 +215,9 @@ impl Rings {
                 }
             }
         }
-        starts.push(points.len());
+        starts.push(taken.len());
         Ok(Self {
-            members: (0..points.len() as u32).collect(),
+            members: taken,
             starts,
         })
     }
@@ -326,10 +357,10 @@ impl Rings {
 
 /// Azimuth step from each point to the next, as the sensor turns: a backward step of more
 /// than [`JITTER`] is taken the long way round. Points on the axis step by 0.
-fn forward_steps(points: &[[f64; 3]]) -> Vec<f64> {
-    let mut steps = Vec::with_capacity(points.len().saturating_sub(1));
+fn forward_steps(points: &[[f64; 3]], taken: &[u32]) -> Vec<f64> {
+    let mut steps = Vec::with_capacity(taken.len().saturating_sub(1));
     let mut last: Option<f64> = None;
-    for p in points {
+    for p in taken.iter().map(|&i| &points[i as usize]) {
         if p[0] == 0.0 && p[1] == 0.0 {
             if last.is_some() {
                 steps.push(0.0);
@@ -353,7 +384,7 @@ fn forward_steps(points: &[[f64; 3]]) -> Vec<f64> {
         last = Some(a);
     }
     // Leading points on the axis step by nothing (they join beam 0).
-    let missing = points.len().saturating_sub(1) - steps.len();
+    let missing = taken.len().saturating_sub(1) - steps.len();
     let mut out = vec![0.0; missing];
     out.extend(steps);
     out

@@ -1,7 +1,6 @@
 //! Thinning a scan: every n-th point, and the part of it a camera sees.
 
 use crate::ScanError;
-use crate::rings::{azimuth, elevation};
 
 /// An azimuth and elevation window seen from the sensor, in degrees: azimuth about the
 /// vertical axis from +x (forward) counter-clockwise (+y, left, is +90°), elevation above the
@@ -18,8 +17,13 @@ use crate::rings::{azimuth, elevation};
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FieldOfView {
-    azimuth: [f64; 2],
-    elevation: [f64; 2],
+    /// Unit directions of the azimuth window's edges, and whether it spans more than
+    /// half a turn (then a point is inside unless it is in the complement).
+    from: [f64; 2],
+    to: [f64; 2],
+    wide: bool,
+    /// Tangents of the elevation bounds.
+    tan_elevation: [f64; 2],
 }
 
 impl FieldOfView {
@@ -48,23 +52,32 @@ impl FieldOfView {
                 reason: "must be lowest..highest within -90..90 degrees",
             });
         }
+        let [lo, hi] = azimuth_deg.map(f64::to_radians);
+        let width = (hi - lo).rem_euclid(std::f64::consts::TAU);
+        let dir = |a: f64| [a.cos(), a.sin()];
         Ok(Self {
-            azimuth: azimuth_deg.map(f64::to_radians),
-            elevation: elevation_deg.map(f64::to_radians),
+            from: dir(lo),
+            to: dir(hi),
+            wide: width > std::f64::consts::PI,
+            tan_elevation: elevation_deg.map(|e| e.to_radians().tan()),
         })
     }
 
-    /// Whether the sensor sees `p` through the window.
+    /// Whether the sensor sees `p` through the window (edges included). Trigonometry-free:
+    /// half-plane tests against the window's edges and the elevation tangents.
     pub fn contains(&self, p: &[f64; 3]) -> bool {
-        let a = azimuth(p);
-        let e = elevation(p);
-        let [lo, hi] = self.azimuth;
-        let in_azimuth = if lo <= hi {
-            lo <= a && a <= hi
+        let r = p[0].hypot(p[1]);
+        if p[2] < self.tan_elevation[0] * r || p[2] > self.tan_elevation[1] * r {
+            return false;
+        }
+        // Counter-clockwise of `from`, and clockwise of `to`.
+        let after_from = self.from[0] * p[1] - self.from[1] * p[0] >= 0.0;
+        let before_to = p[0] * self.to[1] - p[1] * self.to[0] >= 0.0;
+        if self.wide {
+            after_from || before_to
         } else {
-            a >= lo || a <= hi
-        };
-        in_azimuth && self.elevation[0] <= e && e <= self.elevation[1]
+            after_from && before_to
+        }
     }
 }
 

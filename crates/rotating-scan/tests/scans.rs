@@ -9,7 +9,9 @@ use std::collections::HashMap;
 use proptest::prelude::*;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use rotating_scan::{BeamOutlierConfig, ElevationBins, NO_POINT, RangeImage, Rings, beam_outliers};
+use rotating_scan::{
+    BeamOutlierConfig, ElevationBins, FieldOfView, NO_POINT, RangeImage, Rings, beam_outliers,
+};
 
 /// A generated scan: points in firing order and the beam of each.
 struct Scan {
@@ -168,6 +170,37 @@ proptest! {
                     prop_assert!(image.points[pixel][0].is_nan());
                 }
             }
+        }
+    }
+}
+
+proptest! {
+    /// The trigonometry-free window test agrees with angles computed by `atan2`.
+    #[test]
+    fn field_of_view_matches_angles(lo in -180.0f64..180.0, hi in -180.0f64..180.0, elo in -80.0f64..0.0, ehi in 0.0f64..80.0, x in -50.0f64..50.0, y in -50.0f64..50.0, z in -20.0f64..20.0) {
+        let fov = FieldOfView::new([lo, hi], [elo, ehi]).unwrap();
+        let a = y.atan2(x).to_degrees();
+        let e = z.atan2(x.hypot(y)).to_degrees();
+        let width = (hi - lo).rem_euclid(360.0);
+        let from_lo = (a - lo).rem_euclid(360.0);
+        // Stay clear of the edges, where rounding may go either way.
+        let near = |d: f64| d.abs() < 1e-6 || (360.0 - d).abs() < 1e-6;
+        prop_assume!(!near(from_lo) && !near(from_lo - width) && (e - elo).abs() > 1e-6 && (e - ehi).abs() > 1e-6);
+        let inside = from_lo <= width && elo <= e && e <= ehi;
+        prop_assert_eq!(fov.contains(&[x, y, z]), inside);
+    }
+
+    /// Beams of every n-th point are the beams of the thinned scan.
+    #[test]
+    fn thinned_firing_order_is_the_firing_order_of_the_thinned(seed in any::<u64>(), beams in 2usize..20, n in 1usize..5) {
+        let s = scan(seed, beams, 400, -30.0, 0.05);
+        let every = Rings::from_firing_order_every(&s.points, n).unwrap();
+        let kept: Vec<[f64; 3]> = s.points.iter().step_by(n).copied().collect();
+        let direct = Rings::from_firing_order(&kept).unwrap();
+        prop_assert_eq!(every.len(), direct.len());
+        for (a, b) in every.iter().zip(direct.iter()) {
+            let a: Vec<u32> = a.iter().map(|&i| i / n as u32).collect();
+            prop_assert_eq!(a, b.to_vec());
         }
     }
 }
