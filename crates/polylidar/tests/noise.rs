@@ -241,7 +241,10 @@ fn passes_that_grow_with_range_keep_a_far_quantised_wall_whole() {
         .expect("scores");
         scores.matches.iter().any(|m| m.truth == wall)
     };
-    assert!(!found("synpeb-auto"), "uniform passes were expected to break the wall");
+    assert!(
+        !found("synpeb-auto"),
+        "uniform passes were expected to break the wall"
+    );
     assert!(found("rgbd-auto"));
 }
 
