@@ -7,7 +7,7 @@ use planeseg::SegmentationConfig;
 use polypost::PostprocessConfig;
 use serde::{Deserialize, Serialize};
 
-use crate::PolylidarError;
+use crate::{BeamOutlierSection, FieldOfViewSection, PolylidarError, ScanSection};
 
 /// Parameters of the 2D and 2.5D pipelines. Field names follow the papers and are the TOML
 /// keys and (in kebab case) the command-line flags.
@@ -68,6 +68,10 @@ pub struct Config {
     /// [`crate::Extraction::point_labels`] and [`crate::Extraction::plane_labels`], as the
     /// input has no measurement there. Absent = off.
     pub fill_missing: Option<FillConfig>,
+    /// Unorganized clouds: treat the cloud as one frame of a rotating LiDAR (thinning,
+    /// beam outliers, optionally the range image; see [`ScanSection`] and
+    /// [`crate::Polylidar::extract_scan`]); absent = the points are taken as given.
+    pub scan: Option<ScanSection>,
 }
 
 /// When an organized cloud's missing pixel is filled ([`Config::fill_missing`]): from at
@@ -401,13 +405,14 @@ impl PostprocessSection {
 }
 
 /// Names accepted by [`Config::preset`].
-pub const PRESETS: [&str; 8] = [
+pub const PRESETS: [&str; 9] = [
     "rgbd",
     "synpeb",
     "synpeb-auto",
     "rgbd-auto",
     "rooftop",
     "kitti",
+    "kitti-range",
     "mesh-basement",
     "mesh-mainfloor",
 ];
@@ -430,6 +435,7 @@ impl Default for Config {
             postprocess: None,
             refine: false,
             fill_missing: None,
+            scan: None,
         }
     }
 }
@@ -558,8 +564,20 @@ impl Config {
     /// * `rooftop` (Table 3): Laplacian λ 1, 2 it; bilateral σ 0.1 / 0.1, 2 it; normal =
     ///   `up`; min_triangles 200, norm 0.94, lmax 0.9, hole vertices 8, z 0.2; post α 0.1,
     ///   β_neg 0.1, β_pos 0, γ 16, δ 0.5.
-    /// * `kitti` (Table 4): min_triangles 3500, norm 0.97, lmax 1.25, hole vertices 6;
-    ///   post α 0.2, β_neg 0.3, β_pos 0.02, γ 30, δ 0.5.
+    /// * `kitti` (Table 4, §9.2.2): min_triangles 3500, norm 0.97, lmax 1.25, hole
+    ///   vertices 6; post α 0.2, β_neg 0.3, β_pos 0.02, γ 30, δ 0.5; and the frame
+    ///   prepared as the paper does ([`ScanSection`]): beams from the firing order, every
+    ///   second point, the front camera's view (azimuth ±40.7°, elevation −15.6° to
+    ///   13.5°: KITTI's 1242 × 375 pixel images at a focal length of about 721 pixels),
+    ///   beam outliers dropped (2 neighbours a side within 0.06 of one line, point 0.2
+    ///   off it, gaps up to 1).
+    /// * `kitti-range` (ours, beyond the paper): the whole KITTI frame as a 64-row range
+    ///   image on the organized 3D path, for walls, kerbs and façades as well as the
+    ///   ground: every second point, no crop, no outlier removal (a dropped point would
+    ///   leave a hole in the image); bilateral σl 0.1, σa 0.1, k 3, 1 it; FastGA level
+    ///   4, v_min 5, d_peak 0.15, weight 0.01 (walls are light beside the road);
+    ///   min_triangles 150, norm 0.95, lmax 1.5, z 0.15, hole vertices 6; no
+    ///   post-processing.
     /// * `mesh-basement` / `mesh-mainfloor` (Tables 14–15): FastGA level 4, v_min 15,
     ///   d_peak 0.1, 12 %; min_triangles 80 / 1000, norm 0.95, lmax 0.1, z 0.08, hole
     ///   vertices 6; post α 0.01 / 0.02, β_neg 0.025 / 0.05, β_pos 0 / 0.02, γ 0.07 / 0.25,
@@ -643,6 +661,36 @@ impl Config {
                 lmax: 1.25,
                 min_hole_vertices: 6,
                 postprocess: post(0.2, 0.3, 0.02, 30.0, 0.5),
+                scan: Some(ScanSection {
+                    keep_every: 2,
+                    field_of_view: Some(FieldOfViewSection {
+                        azimuth_deg: [-40.7, 40.7],
+                        elevation_deg: [-15.6, 13.5],
+                    }),
+                    beam_outliers: Some(BeamOutlierSection::default()),
+                    ..ScanSection::default()
+                }),
+                ..base
+            },
+            "kitti-range" => Self {
+                bilateral: Some(BilateralConfig {
+                    iterations: 1,
+                    ..BilateralConfig::default()
+                }),
+                fastga: FastGaSection {
+                    min_cluster_weight: 0.01,
+                    ..fastga(4, 5.0, 0.15)
+                },
+                min_triangles: 150,
+                norm_thresh: 0.95,
+                lmax: 1.5,
+                z_thresh: 0.15,
+                min_hole_vertices: 6,
+                scan: Some(ScanSection {
+                    keep_every: 2,
+                    range_image_columns: Some(0),
+                    ..ScanSection::default()
+                }),
                 ..base
             },
             "mesh-basement" | "mesh-mainfloor" => {
@@ -733,6 +781,9 @@ impl Config {
                 self.z_thresh.to_string(),
                 "must be a finite length ≥ 0",
             );
+        }
+        if let Some(scan) = &self.scan {
+            scan.validate()?;
         }
         let up_len2: f64 = self.up.iter().map(|c| c * c).sum();
         if !(up_len2.is_finite() && up_len2 > 0.0) {

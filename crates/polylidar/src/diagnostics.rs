@@ -44,6 +44,11 @@ pub struct Counts {
     pub postprocessed_polygons: usize,
     /// Polygons dropped by post-processing (area below γ, or not repairable).
     pub postprocess_dropped: usize,
+    /// Rotating scans ([`crate::Polylidar::extract_scan`]): points left out by
+    /// `keep_every` and the field of view.
+    pub scan_thinned: usize,
+    /// Rotating scans: points dropped as beam outliers.
+    pub beam_outliers: usize,
     /// 3D organized clouds: missing pixels filled ([`crate::Config::fill_missing`]).
     pub filled: usize,
     /// 3D organized clouds: Laplacian passes run (the configured count, or the one
@@ -53,7 +58,8 @@ pub struct Counts {
 
 /// Wall-clock time per pipeline stage, in execution order.
 ///
-/// Stage names: `fill` (organized clouds: missing returns filled), `mesh` (triangulation or meshing, normals included), `laplacian`
+/// Stage names: `fill` (organized clouds: missing returns filled), `outliers` (rotating scans: beams, thinning, beam outliers), `range_image`
+/// (rotating scans rebuilt as range images), `mesh` (triangulation or meshing, normals included), `laplacian`
 /// (with `iterations = "auto"`, the noise estimate too), `bilateral` (smoothing), `fastga` (dominant normals: integration and peaks), `regions`
 /// (2D / 2.5D triangle filtering and region growing), `polygons` (2D / 2.5D boundary
 /// following), `planes_polygons` (3D group assignment, region growing and polygon
@@ -80,6 +86,12 @@ impl Timings {
     /// The sum of all stages.
     pub fn total(&self) -> Duration {
         self.stages.iter().map(|(_, d)| *d).sum()
+    }
+
+    /// Puts the stages of `earlier` before these.
+    pub(crate) fn prepend(&mut self, mut earlier: Timings) {
+        earlier.stages.append(&mut self.stages);
+        self.stages = earlier.stages;
     }
 
     /// Runs `f`, recording its duration under `stage`.

@@ -17,6 +17,11 @@
 //!   parallel planar segmentation with overlapped polygon extraction, each polygon with
 //!   its plane, and optional post-processing into valid simplified polygons.
 //!
+//! * rotating LiDAR frames — KITTI's Velodyne ([`Polylidar::extract_scan`], the `kitti`
+//!   presets): beams recovered from the firing order, thinning and beam-neighbour outlier
+//!   removal, then the 2.5D path (the ground with obstacles as holes) or the organized 3D
+//!   path on the rebuilt range image.
+//!
 //! Each result carries per-stage [`Counts`] and [`Timings`] so that an empty result can be
 //! explained. [`Extraction::planar_meshes`] turns the planes into light, optionally
 //! textured triangle meshes ([`planar_mesh`], Ma et al. 2013).
@@ -49,6 +54,7 @@ mod pipeline3d;
 mod regions;
 mod reuse;
 pub mod scale;
+mod scan;
 pub mod shapes;
 
 pub use config::{
@@ -73,6 +79,7 @@ pub use pipeline::{
 /// Planar simplification and texturing (Ma et al. 2013), re-exported: see
 /// [`Extraction::planar_meshes`].
 pub use planar_mesh;
+pub use scan::{BeamOutlierSection, BeamSource, FieldOfViewSection, PreparedScan, ScanSection};
 
 #[doc = include_str!("../README.md")]
 #[cfg(doctest)]
