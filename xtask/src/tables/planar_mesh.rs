@@ -282,7 +282,7 @@ pub fn run(ctx: &Ctx) -> Result<Section> {
     let _ = writeln!(
         body,
         "\n![Angle distribution](planar_mesh_angles.png)\n\nThe distribution of all \
-         triangle angles in 5° bins, each method's normalised to sum to 1 (Fig. 8 of the \
+         triangle angles in 5° bins centred on multiples of 5°, each method's normalised to sum to 1 (Fig. 8 of the \
          paper).\n"
     );
 
@@ -298,7 +298,8 @@ pub fn run(ctx: &Ctx) -> Result<Section> {
 }
 
 fn angle_chart(angles: &[Vec<f64>]) -> Chart {
-    let bins = 36usize;
+    // Bins centred on multiples of 5° (so right angles fall at 90, not at a bin edge).
+    let bins = 37usize;
     let mut top: f64 = 0.0;
     let series = METHODS
         .iter()
@@ -307,17 +308,17 @@ fn angle_chart(angles: &[Vec<f64>]) -> Chart {
         .map(|(k, ((_, _, name), a))| {
             let mut counts = vec![0usize; bins];
             for &x in a {
-                counts[((x / 5.0) as usize).min(bins - 1)] += 1;
+                counts[((x / 5.0).round() as usize).min(bins - 1)] += 1;
             }
             let n = a.len().max(1) as f64;
             let points: Vec<(f64, f64)> = counts
                 .iter()
                 .enumerate()
-                .map(|(b, &c)| (5.0 * b as f64 + 2.5, c as f64 / n))
+                .map(|(b, &c)| (5.0 * b as f64, c as f64 / n))
                 .collect();
             top = points.iter().map(|p| p.1).fold(top, f64::max);
             Series {
-                label: (*name).to_uppercase(),
+                label: name.trim_start_matches("polygon-based, ").to_uppercase(),
                 points,
                 color: PALETTE[k % PALETTE.len()],
                 dashed: k == 3,
