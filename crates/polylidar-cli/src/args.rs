@@ -51,9 +51,9 @@ pub struct InputArgs {
     pub demo: Option<Demo>,
     /// Start from a named parameter preset of the papers: rgbd, synpeb (the authors' fixed
     /// 8 Laplacian iterations), synpeb-auto (iterations from the measured noise, for range
-    /// scanners), rgbd-auto (the same, passes growing with range, for depth cameras),
-    /// rooftop, kitti, mesh-basement, mesh-mainfloor. Their lengths are metres, converted into
-    /// `--units`. Default: none (the defaults below; `synpeb-auto` for `--demo scene`).
+    /// scanners), rgbd-auto (the same with passes growing with range and missing returns
+    /// filled, for depth cameras), rooftop, kitti, kitti-range, mesh-basement,
+    /// mesh-mainfloor. Their lengths are metres, converted into `--units`. Default: none (the defaults below; `synpeb-auto` for `--demo scene`).
     #[arg(long, value_name = "NAME")]
     pub preset: Option<String>,
     /// Unit of the input's coordinates: m, ft (0.3048 m) or us-ft (1200/3937 m). Every
