@@ -76,6 +76,7 @@ fn every_readme_example_finds_something_on_the_shared_data() {
         "shapes/caholes.geojson",
         "lidar/autzen_trim.laz",
         "lidar/simple.las",
+        "kitti/000000.bin",
     ];
     let Some(found) = needed
         .iter()

@@ -2,6 +2,7 @@
 
 mod accuracy;
 mod fastga;
+mod kitti;
 mod pipeline;
 mod planar_mesh;
 mod realsense;
@@ -49,6 +50,12 @@ pub const ALL: &[TableSpec] = &[
         aliases: &["8", "table8"],
         files: &["table08_realsense.md"],
         run: realsense::run,
+    },
+    TableSpec {
+        key: "kitti",
+        aliases: &["kitti-range", "velodyne", "t4", "t5"],
+        files: &["table05_kitti.md"],
+        run: kitti::run,
     },
     TableSpec {
         key: "shapes",
