@@ -17,6 +17,7 @@ import os
 import statistics
 import subprocess
 import sys
+import tempfile
 import time
 from pathlib import Path
 
@@ -93,7 +94,7 @@ def ours(repeats):
     fastga = pr.FastGA(level=4)
     fastga_ms = median_ms(lambda: fastga.detect(normals), repeats * 5)
     rows.append(("FastGA, 100k random normals, level 4 (accumulator kept)", fastga_ms))
-    return rows, pc01_ms, fastga_ms
+    return rows, pc01_ms, fastga_ms, normals
 
 
 def original(repeats):
@@ -111,10 +112,14 @@ def original(repeats):
     return rows
 
 
-def rust_reference(repeats):
-    cmd = ["cargo", "run", "--quiet", "--release", "-p", "polylidar-benches",
-           "--example", "python_reference", "--", str(repeats)]
-    done = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True)
+def rust_reference(repeats, normals):
+    """The Rust reference's medians; it times FastGA on the very `normals` timed here."""
+    with tempfile.TemporaryDirectory() as tmp:
+        path = os.path.join(tmp, "normals.npy")
+        np.save(path, normals)
+        cmd = ["cargo", "run", "--quiet", "--release", "-p", "polylidar-benches",
+               "--example", "python_reference", "--", str(repeats), path]
+        done = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True)
     if done.returncode != 0:
         print(f"(Rust reference failed: {done.stderr.strip()[-400:]})", file=sys.stderr)
         return None
@@ -130,7 +135,7 @@ def main():
     load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
     print(f"polylidar_rs {pr.__version__}, Python {sys.version.split()[0]}, "
           f"{os.cpu_count()} CPUs, load average {load:.2f}; median ms of {args.repeats} runs")
-    rows, pc01_ms, fastga_ms = ours(args.repeats)
+    rows, pc01_ms, fastga_ms, normals = ours(args.repeats)
     theirs = original(args.repeats)
     theirs_by_name = dict(theirs or [])
     print(f"\n| call | polylidar_rs (ms) | original (ms) |\n| --- | ---: | ---: |")
@@ -143,7 +148,7 @@ def main():
 
     if args.no_rust:
         return
-    rust = rust_reference(args.repeats)
+    rust = rust_reference(args.repeats, normals)
     if not rust:
         return
     print("\nPython overhead against the same call in Rust (examples/python_reference.rs):")

@@ -2,14 +2,15 @@
 //! timed in Rust on the same data, printed as one JSON object of median milliseconds.
 //!
 //! ```text
-//! cargo run --release -p polylidar-benches --example python_reference -- [REPEATS]
+//! cargo run --release -p polylidar-benches --example python_reference -- [REPEATS] [NORMALS.npy]
 //! ```
 //!
 //! * `pc_01_synpeb`: `Polylidar::extract_organized` on `../shared/fixtures/synpeb/pc_01.pcd`
 //!   with the `synpeb` preset, wall-clock per call (the pipeline object built once);
 //! * `fastga_100k`: `FastGa::detect` (clear, integrate, peaks, clustering; level 4,
-//!   accumulator built once) on 100,000 random unit normals (`random_unit_normals(100_000,
-//!   42)`, the criterion bench's input).
+//!   accumulator built once) on the `(N, 3)` normals of `NORMALS.npy` (the Python side
+//!   passes the very array it timed), or else on 100,000 random unit normals
+//!   (`random_unit_normals(100_000, 42)`, the criterion bench's input).
 
 use std::time::Instant;
 
@@ -54,7 +55,18 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
         out.push(format!("\"pc_01_synpeb\": {ms:.4}"));
     }
-    let normals = random_unit_normals(100_000, 42);
+    let normals = match std::env::args().nth(2) {
+        Some(path) => {
+            let array = polylidar_io::read_npy(&path)?;
+            if array.shape.len() != 2 || array.shape[1] != 3 {
+                return Err(
+                    format!("{path}: expected (N, 3) normals, got {:?}", array.shape).into(),
+                );
+            }
+            array.data.as_chunks::<3>().0.to_vec()
+        }
+        None => random_unit_normals(100_000, 42),
+    };
     let mut fastga = FastGa::new(FastGaConfig::default().with_level(4))?;
     let mut failed = None;
     let ms = median_ms(repeats * 5, || {

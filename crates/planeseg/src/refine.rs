@@ -264,7 +264,12 @@ impl Mesh<'_> {
         if !(n[0].is_finite() && n[1].is_finite() && n[2].is_finite()) {
             return false;
         }
-        let [a, b, c] = self.corners(t);
+        self.short_edges(self.corners(t))
+    }
+
+    /// Whether every edge of the triangle with these corners is within `lmax`.
+    #[inline]
+    fn short_edges(&self, [a, b, c]: [Vec3; 3]) -> bool {
         let len2 = |p: Vec3, q: Vec3| {
             let d = sub(p, q);
             dot(d, d)
@@ -283,14 +288,19 @@ impl Mesh<'_> {
         })
     }
 
-    /// Whether free triangle `t` fits `plane` closely enough to be absorbed.
-    fn fits(&self, t: u32, plane: &Plane) -> bool {
-        if dot(self.normals[t as usize], plane.normal) < ABSORB_COS {
+    /// Whether free triangle `t` may join a segment on `plane`: [`Self::usable`], its
+    /// normal within [`ABSORB_COS`] of the plane's and its corners within `z_thresh` of it.
+    /// The normal is tested first (a NaN normal fails it too), so that most triangles of
+    /// other planes are turned away before their corners are read.
+    fn joins(&self, t: u32, plane: &Plane) -> bool {
+        if !(dot(self.normals[t as usize], plane.normal) >= ABSORB_COS) {
             return false;
         }
-        self.corners(t)
-            .iter()
-            .all(|&p| plane.distance(p).abs() <= self.z_thresh)
+        let corners = self.corners(t);
+        self.short_edges(corners)
+            && corners
+                .iter()
+                .all(|&p| plane.distance(p).abs() <= self.z_thresh)
     }
 
     fn sums(&self, triangles: &[u32]) -> PlaneSums {
@@ -466,11 +476,7 @@ fn absorb(
                         continue;
                     };
                     for u in m.neighbours(t) {
-                        if u != NONE
-                            && labels[u as usize] == NONE
-                            && m.usable(u)
-                            && m.fits(u, &plane)
-                        {
+                        if u != NONE && labels[u as usize] == NONE && m.joins(u, &plane) {
                             found.push((u, s));
                         }
                     }
@@ -532,10 +538,7 @@ fn grow_free(
                 break;
             };
             for u in m.neighbours(t) {
-                if u == NONE || labels[u as usize] != NONE || !m.usable(u) {
-                    continue;
-                }
-                if !m.fits(u, &plane) {
+                if u == NONE || labels[u as usize] != NONE || !m.joins(u, &plane) {
                     continue;
                 }
                 labels[u as usize] = id;
