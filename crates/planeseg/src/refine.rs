@@ -293,7 +293,8 @@ impl Mesh<'_> {
     /// The normal is tested first (a NaN normal fails it too), so that most triangles of
     /// other planes are turned away before their corners are read.
     fn joins(&self, t: u32, plane: &Plane) -> bool {
-        if !(dot(self.normals[t as usize], plane.normal) >= ABSORB_COS) {
+        let cos = dot(self.normals[t as usize], plane.normal);
+        if cos.is_nan() || cos < ABSORB_COS {
             return false;
         }
         let corners = self.corners(t);

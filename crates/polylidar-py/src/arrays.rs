@@ -41,6 +41,27 @@ pub struct Expect {
     pub shape: &'static str,
 }
 
+impl Expect {
+    const fn new(name: &'static str, shape: &'static str) -> Self {
+        Self { name, shape }
+    }
+}
+
+/// The array arguments of the package, by the name and shape their errors give.
+pub const POINTS_2D: Expect = Expect::new("points", "(N, 2)");
+/// See [`POINTS_2D`].
+pub const POINTS_3D: Expect = Expect::new("points", "(N, 3)");
+/// See [`POINTS_2D`].
+pub const CLOUD: Expect = Expect::new("cloud", "(H, W, 3)");
+/// See [`POINTS_2D`].
+pub const VERTICES: Expect = Expect::new("vertices", "(N, 3)");
+/// See [`POINTS_2D`].
+pub const TRIANGLES: Expect = Expect::new("triangles", "(M, 3)");
+/// See [`POINTS_2D`].
+pub const NORMALS: Expect = Expect::new("normals", "(N, 3)");
+/// See [`POINTS_2D`].
+pub const DEPTH: Expect = Expect::new("depth", "(H, W)");
+
 /// The ndarray behind `obj`, or a `TypeError` naming what was expected.
 pub fn ndarray<'a, 'py>(
     obj: &'a Bound<'py, PyAny>,

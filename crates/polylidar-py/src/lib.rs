@@ -18,7 +18,7 @@ use polylidar::{OrganizedPointCloud, OrganizedPointCloudView};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::arrays::{Expect, Points};
+use crate::arrays::{CLOUD, Expect, POINTS_2D, POINTS_3D, Points, TRIANGLES, VERTICES};
 use crate::result::{Extraction, Mesh, Polygon};
 
 /// The Rust side allocates the large per-frame buffers (mesh, normals, filtered clouds);
@@ -85,27 +85,6 @@ impl Polylidar {
         self.wrap(result, 3, Some((rows, cols)), cloud.address())
     }
 }
-
-const POINTS_2D: Expect = Expect {
-    name: "points",
-    shape: "(N, 2)",
-};
-const POINTS_3D: Expect = Expect {
-    name: "points",
-    shape: "(N, 3)",
-};
-const CLOUD: Expect = Expect {
-    name: "cloud",
-    shape: "(H, W, 3)",
-};
-const VERTICES: Expect = Expect {
-    name: "vertices",
-    shape: "(N, 3)",
-};
-const TRIANGLES: Expect = Expect {
-    name: "triangles",
-    shape: "(M, 3)",
-};
 
 #[pymethods]
 impl Polylidar {

@@ -11,22 +11,9 @@ use polypost::{Plane, Polygon3, PostProcessor, PostprocessConfig};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
-use crate::arrays::{self, Expect, Points, rows_to_array, rows_to_array_f32};
+use crate::arrays::{self, CLOUD, DEPTH, NORMALS, Points, rows_to_array, rows_to_array_f32};
 use crate::error;
 use crate::result::{Mesh, Polygon};
-
-const CLOUD: Expect = Expect {
-    name: "cloud",
-    shape: "(H, W, 3)",
-};
-const NORMALS: Expect = Expect {
-    name: "normals",
-    shape: "(N, 3)",
-};
-const DEPTH: Expect = Expect {
-    name: "depth",
-    shape: "(H, W)",
-};
 
 /// The `(H, W, 3)` cloud argument and its grid.
 fn cloud<'py>(obj: &Bound<'py, PyAny>) -> PyResult<(Points<'py, 3>, usize, usize)> {
