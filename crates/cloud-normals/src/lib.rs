@@ -1,0 +1,43 @@
+//! Normals for unorganized point clouds, and the neighbourhoods they come from:
+//!
+//! * [`Neighbours`]: the `k` nearest neighbours of every point, from a k-d tree
+//!   ([`kiddo`]), queried in parallel;
+//! * [`estimate_normals`] / [`plane_normal`]: the normal of the plane that fits each
+//!   neighbourhood best (principal component analysis: the eigenvector of the smallest
+//!   eigenvalue of the covariance, in closed form);
+//! * [`orient`]: normals flipped towards a viewpoint (the sensor) or into the half-space
+//!   of a direction (up, for airborne data);
+//! * [`voxel_downsample`]: one representative point per voxel, for dense clouds.
+//!
+//! Nothing here depends on the rest of the pipeline; Polylidar's unorganized 3D path uses
+//! it to find the planes of a cloud in every direction.
+//!
+//! ```
+//! use cloud_normals::{Neighbours, Orientation, estimate_normals, orient};
+//!
+//! // A 20 × 20 floor at z = 1, seen from a sensor above it.
+//! let points: Vec<[f64; 3]> = (0..400).map(|i| [(i % 20) as f64, (i / 20) as f64, 1.0]).collect();
+//! let neighbours = Neighbours::new(&points, 10)?;
+//! let mut normals = estimate_normals(&points, &neighbours);
+//! orient(&points, &mut normals, Orientation::Towards([5.0, 5.0, 10.0]))?;
+//! assert!(normals.iter().all(|n| (n[2] - 1.0).abs() < 1e-9));
+//! # Ok::<(), cloud_normals::NormalsError>(())
+//! ```
+
+#![deny(rustdoc::broken_intra_doc_links)]
+
+mod error;
+mod knn;
+mod orient;
+mod pca;
+mod voxel;
+
+pub use error::NormalsError;
+pub use knn::Neighbours;
+pub use orient::{Orientation, SIDE_COS, orient};
+pub use pca::{estimate_normals, plane_normal, smallest_eigenvector};
+pub use voxel::{Voxels, voxel_downsample};
+
+#[doc = include_str!("../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;

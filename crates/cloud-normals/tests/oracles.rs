@@ -1,0 +1,173 @@
+//! The crate against independent oracles: brute-force neighbours, nalgebra's symmetric
+//! eigen-decomposition, known planes, and a brute-force voxel grouping.
+
+use cloud_normals::{
+    Neighbours, NormalsError, Orientation, estimate_normals, orient, plane_normal,
+    smallest_eigenvector, voxel_downsample,
+};
+use nalgebra::{Matrix3, SymmetricEigen};
+use proptest::prelude::*;
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+fn d2(a: [f64; 3], b: [f64; 3]) -> f64 {
+    (0..3).map(|i| (a[i] - b[i]).powi(2)).sum()
+}
+
+fn random_cloud(n: usize, seed: u64) -> Vec<[f64; 3]> {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    (0..n)
+        .map(|_| {
+            [
+                rng.random_range(-5.0..5.0),
+                rng.random_range(-5.0..5.0),
+                rng.random_range(-5.0..5.0),
+            ]
+        })
+        .collect()
+}
+
+#[test]
+fn neighbours_match_brute_force_distances() {
+    let points = random_cloud(500, 1);
+    let k = 9;
+    let knn = Neighbours::new(&points, k).unwrap();
+    for (i, p) in points.iter().enumerate() {
+        let mut all: Vec<f64> = points.iter().map(|q| d2(*p, *q)).collect();
+        all.sort_by(f64::total_cmp);
+        let found: Vec<f64> = knn
+            .of(i)
+            .iter()
+            .map(|&j| d2(*p, points[j as usize]))
+            .collect();
+        for (a, b) in found.iter().zip(&all[..k]) {
+            assert!(
+                (a - b).abs() < 1e-12,
+                "point {i}: {found:?} vs {:?}",
+                &all[..k]
+            );
+        }
+        assert_eq!(knn.of(i)[0] as usize, i);
+    }
+}
+
+#[test]
+fn pca_normals_of_a_noisy_tilted_plane_match_it() {
+    // The plane through c with normal n, sampled on a jittered grid with 1 mm noise.
+    let n = {
+        let v: [f64; 3] = [0.3, -0.5, 0.8];
+        let l = v.iter().map(|c| c * c).sum::<f64>().sqrt();
+        v.map(|c| c / l)
+    };
+    let e1 = {
+        let v = [n[1], -n[0], 0.0];
+        let l = (v[0] * v[0] + v[1] * v[1]).sqrt();
+        v.map(|c| c / l)
+    };
+    let e2 = [
+        n[1] * e1[2] - n[2] * e1[1],
+        n[2] * e1[0] - n[0] * e1[2],
+        n[0] * e1[1] - n[1] * e1[0],
+    ];
+    let mut rng = ChaCha8Rng::seed_from_u64(3);
+    let points: Vec<[f64; 3]> = (0..2500)
+        .map(|i| {
+            let (u, v) = (0.02 * (i % 50) as f64, 0.02 * (i / 50) as f64);
+            let w = rng.random_range(-0.001..0.001);
+            std::array::from_fn(|a| 1.0 + u * e1[a] + v * e2[a] + w * n[a])
+        })
+        .collect();
+    let mut normals = estimate_normals(&points, &Neighbours::new(&points, 16).unwrap());
+    orient(
+        &points,
+        &mut normals,
+        Orientation::Towards([10.0 * n[0], 10.0 * n[1], 10.0 * n[2]]),
+    )
+    .unwrap();
+    for normal in &normals {
+        let cos = normal.iter().zip(&n).map(|(a, b)| a * b).sum::<f64>();
+        assert!(cos > 0.995, "normal {normal:?} vs {n:?}");
+    }
+}
+
+#[test]
+fn degenerate_neighbourhoods_have_no_normal() {
+    let line: Vec<[f64; 3]> = (0..5).map(|i| [i as f64, 2.0 * i as f64, 0.0]).collect();
+    assert_eq!(plane_normal(line.iter().copied()), None);
+    assert_eq!(plane_normal([[1.0, 1.0, 1.0]; 4].into_iter()), None);
+    assert_eq!(plane_normal([[0.0; 3], [1.0, 0.0, 0.0]].into_iter()), None);
+}
+
+#[test]
+fn orientation_along_up_makes_walls_agree() {
+    let points = [[0.0; 3]; 4];
+    let mut normals = [
+        [0.0, 0.0, -1.0],
+        [-1.0, 0.0, 0.0],
+        [1.0, 0.0, 0.05],
+        [0.0, -1.0, 0.0],
+    ];
+    orient(&points, &mut normals, Orientation::Along([0.0, 0.0, 1.0])).unwrap();
+    assert_eq!(normals[0], [0.0, 0.0, 1.0]);
+    assert_eq!(normals[1], [1.0, 0.0, 0.0]);
+    assert_eq!(normals[2], [1.0, 0.0, 0.05]);
+    assert_eq!(normals[3], [0.0, 1.0, 0.0]);
+    assert!(orient(&points, &mut normals, Orientation::Along([0.0; 3])).is_err());
+}
+
+#[test]
+fn bad_clouds_are_errors() {
+    assert_eq!(Neighbours::new(&[], 5), Err(NormalsError::Empty));
+    assert!(matches!(
+        Neighbours::new(&[[0.0, f64::NAN, 0.0]], 5),
+        Err(NormalsError::NonFinite { index: 0, .. })
+    ));
+    assert!(matches!(
+        voxel_downsample(&[[0.0; 3]], 0.0),
+        Err(NormalsError::BadVoxelSize { .. })
+    ));
+    assert!(matches!(
+        voxel_downsample(&[[0.0; 3], [1e9, 0.0, 0.0]], 1e-3),
+        Err(NormalsError::TooManyVoxels { .. })
+    ));
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(200))]
+
+    /// The closed form against nalgebra's symmetric eigen-decomposition.
+    #[test]
+    fn smallest_eigenvector_matches_nalgebra(c in prop::array::uniform6(-1.0f64..1.0)) {
+        // A covariance: M Mᵀ is symmetric positive semi-definite.
+        let m = Matrix3::new(c[0], c[1], c[2], c[3], c[4], c[5], c[1] * c[4], c[0] - c[5], 0.5);
+        let a = m * m.transpose();
+        let eigen = SymmetricEigen::new(a);
+        let mut order = [0usize, 1, 2];
+        order.sort_by(|&i, &j| eigen.eigenvalues[i].total_cmp(&eigen.eigenvalues[j]));
+        let gap = eigen.eigenvalues[order[1]] - eigen.eigenvalues[order[0]];
+        prop_assume!(gap > 1e-6 * a.trace());
+        let upper = [a[(0, 0)], a[(0, 1)], a[(0, 2)], a[(1, 1)], a[(1, 2)], a[(2, 2)]];
+        let (v, ratio) = smallest_eigenvector(upper).unwrap();
+        let expected = eigen.eigenvectors.column(order[0]);
+        let cos = (v[0] * expected[0] + v[1] * expected[1] + v[2] * expected[2]).abs();
+        prop_assert!(cos > 1.0 - 1e-6, "{v:?} vs {expected:?}");
+        prop_assert!((ratio - eigen.eigenvalues[order[0]].max(0.0) / a.trace()).abs() < 1e-8);
+    }
+
+    /// Voxels against a direct grouping of the points by their cell.
+    #[test]
+    fn voxels_group_points_by_cell(seed in 0u64..1000, size in 0.2f64..3.0) {
+        let points = random_cloud(300, seed);
+        let voxels = voxel_downsample(&points, size).unwrap();
+        let min: [f64; 3] = std::array::from_fn(|a| points.iter().map(|p| p[a]).fold(f64::INFINITY, f64::min));
+        let cell = |p: &[f64; 3]| -> [i64; 3] { std::array::from_fn(|a| ((p[a] - min[a]) / size).floor() as i64) };
+        let mut cells: Vec<[i64; 3]> = points.iter().map(cell).collect();
+        cells.sort();
+        cells.dedup();
+        prop_assert_eq!(voxels.representatives.len(), cells.len());
+        for (i, p) in points.iter().enumerate() {
+            let rep = voxels.representatives[voxels.voxel_of[i] as usize];
+            prop_assert_eq!(cell(p), cell(&points[rep as usize]));
+        }
+    }
+}
