@@ -4,8 +4,8 @@
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[non_exhaustive]
 pub enum SmoothError {
-    /// The kernel size is even or below 3.
-    #[error("kernel size must be odd and at least 3, got {kernel}")]
+    /// The kernel size is even, below 3 or above [`crate::MAX_KERNEL`].
+    #[error("kernel size must be odd, from 3 to 15 (mesh_smooth_gpu::MAX_KERNEL), got {kernel}")]
     InvalidKernel {
         /// Kernel size given.
         kernel: u32,

@@ -90,7 +90,7 @@ pub use gpu::GpuSmoother;
 #[cfg(not(feature = "gpu"))]
 pub use gpu_disabled::GpuSmoother;
 pub use grid::SlotNormals;
-pub use options::{Backend, BilateralOptions, LaplacianOptions};
+pub use options::{Backend, BilateralOptions, LaplacianOptions, MAX_ITERATIONS, MAX_KERNEL};
 
 #[cfg(doctest)]
 #[doc = include_str!("../README.md")]

@@ -2,6 +2,14 @@
 
 use crate::SmoothError;
 
+/// Largest kernel side of either filter: 15 × 15 pixels (the papers use 3 and 5; the work
+/// of a pass grows with the square of the side).
+pub const MAX_KERNEL: u32 = 15;
+
+/// Most passes of either filter (the papers use 2 to 8; the predicted Laplacian count is
+/// at most 16).
+pub const MAX_ITERATIONS: u32 = 1000;
+
 /// Where a filter on an organized cloud runs. All three give the same answer: `Cpu` and
 /// `CpuParallel` bit for bit, `Gpu` within f32 rounding (see the crate docs for the
 /// tolerance the tests hold it to).
@@ -27,13 +35,14 @@ pub enum Backend {
 /// repeated `iterations` times, each iteration reading only the previous one's output.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LaplacianOptions {
-    /// Side of the square pixel neighbourhood: odd, ≥ 3. Pixels closer than `kernel / 2` to
-    /// the image edge are not filtered. Default 3.
+    /// Side of the square pixel neighbourhood: odd, 3 to [`MAX_KERNEL`]. Pixels closer than
+    /// `kernel / 2` to the image edge are not filtered. Default 3.
     pub kernel: u32,
-    /// Step towards the weighted neighbour mean: 0 keeps the cloud, 1 moves to the mean.
-    /// Any finite value is accepted. Default 1.0.
+    /// Step towards the weighted neighbour mean, in (0, 1]: 1 moves to the mean, smaller
+    /// steps part of the way (Polylidar3D Eq. 2). Larger steps overshoot and negative ones
+    /// roughen the surface, so both are refused. Default 1.0.
     pub lambda: f32,
-    /// Number of passes. Default 2.
+    /// Number of passes, 0 to [`MAX_ITERATIONS`]. Default 2.
     pub iterations: u32,
     /// ε of the inverse-distance weights, in the cloud's length unit; finite and > 0.
     /// Default 1e-6.
@@ -96,9 +105,10 @@ impl LaplacianOptions {
     /// [`SmoothError::InvalidKernel`] or [`SmoothError::InvalidParameter`].
     pub fn validate(&self) -> Result<(), SmoothError> {
         check_kernel(self.kernel)?;
-        if !self.lambda.is_finite() {
-            return Err(invalid("lambda", self.lambda, "must be finite"));
+        if !(self.lambda > 0.0 && self.lambda <= 1.0) {
+            return Err(invalid("lambda", self.lambda, "must be in (0, 1]"));
         }
+        check_iterations(self.iterations)?;
         if !(self.epsilon.is_finite() && self.epsilon > 0.0) {
             return Err(invalid("epsilon", self.epsilon, "must be finite and > 0"));
         }
@@ -116,15 +126,16 @@ impl LaplacianOptions {
 /// skipped; repeated `iterations` times. Centroids stay fixed: only normals change.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BilateralOptions {
-    /// Side of the square cell neighbourhood: odd, ≥ 3. Cells closer than `kernel / 2` to
-    /// the edge of the cell grid keep their unfiltered normals. Default 3.
+    /// Side of the square cell neighbourhood: odd, 3 to [`MAX_KERNEL`]. Cells closer than
+    /// `kernel / 2` to the edge of the cell grid keep their unfiltered normals. Default 3.
     pub kernel: u32,
     /// σ_l, the spatial scale, in the cloud's length unit; finite and > 0. Default 0.1.
     pub sigma_length: f32,
     /// σ_a, the normal-difference scale: a Euclidean distance between unit normals
     /// (0 to 2; 0.1 ≈ 5.7°); finite and > 0. Default 0.1.
     pub sigma_angle: f32,
-    /// Number of passes; 0 returns the unfiltered normals. Default 2.
+    /// Number of passes, 0 to [`MAX_ITERATIONS`]; 0 returns the unfiltered normals.
+    /// Default 2.
     pub iterations: u32,
     /// Where to run. Default [`Backend::CpuParallel`].
     pub backend: Backend,
@@ -184,6 +195,7 @@ impl BilateralOptions {
     /// [`SmoothError::InvalidKernel`] or [`SmoothError::InvalidParameter`].
     pub fn validate(&self) -> Result<(), SmoothError> {
         check_kernel(self.kernel)?;
+        check_iterations(self.iterations)?;
         check_sigma("sigma_length", self.sigma_length)?;
         check_sigma("sigma_angle", self.sigma_angle)
     }
@@ -198,8 +210,19 @@ impl BilateralOptions {
 }
 
 fn check_kernel(kernel: u32) -> Result<(), SmoothError> {
-    if kernel < 3 || kernel % 2 == 0 {
+    if kernel < 3 || kernel % 2 == 0 || kernel > MAX_KERNEL {
         return Err(SmoothError::InvalidKernel { kernel });
+    }
+    Ok(())
+}
+
+fn check_iterations(iterations: u32) -> Result<(), SmoothError> {
+    if iterations > MAX_ITERATIONS {
+        return Err(SmoothError::InvalidParameter {
+            name: "iterations",
+            value: f64::from(iterations),
+            reason: "must be at most 1000 (mesh_smooth_gpu::MAX_ITERATIONS)",
+        });
     }
     Ok(())
 }
@@ -249,6 +272,84 @@ mod tests {
             );
         }
         assert!(LaplacianOptions::new().with_kernel(7).validate().is_ok());
+        for kernel in [MAX_KERNEL + 2, 101, u32::MAX] {
+            assert_eq!(
+                LaplacianOptions::new().with_kernel(kernel).validate(),
+                Err(SmoothError::InvalidKernel { kernel })
+            );
+            assert_eq!(
+                BilateralOptions::new().with_kernel(kernel).validate(),
+                Err(SmoothError::InvalidKernel { kernel })
+            );
+        }
+        assert!(
+            LaplacianOptions::new()
+                .with_kernel(MAX_KERNEL)
+                .validate()
+                .is_ok()
+        );
+    }
+
+    #[test]
+    fn lambda_must_be_a_step_in_zero_to_one() {
+        for lambda in [
+            0.0,
+            -1.0,
+            1.0001,
+            2.0,
+            10.0,
+            1e30,
+            -1e30,
+            f32::INFINITY,
+            f32::NAN,
+        ] {
+            let err = LaplacianOptions::new()
+                .with_lambda(lambda)
+                .validate()
+                .unwrap_err();
+            assert!(
+                matches!(err, SmoothError::InvalidParameter { name: "lambda", .. }),
+                "{lambda}: {err}"
+            );
+        }
+        for lambda in [1e-3, 0.5, 1.0] {
+            assert!(
+                LaplacianOptions::new()
+                    .with_lambda(lambda)
+                    .validate()
+                    .is_ok()
+            );
+        }
+    }
+
+    #[test]
+    fn iterations_are_bounded() {
+        for iterations in [MAX_ITERATIONS + 1, u32::MAX] {
+            assert!(
+                LaplacianOptions::new()
+                    .with_iterations(iterations)
+                    .validate()
+                    .is_err()
+            );
+            assert!(
+                BilateralOptions::new()
+                    .with_iterations(iterations)
+                    .validate()
+                    .is_err()
+            );
+        }
+        assert!(
+            LaplacianOptions::new()
+                .with_iterations(MAX_ITERATIONS)
+                .validate()
+                .is_ok()
+        );
+        assert!(
+            BilateralOptions::new()
+                .with_iterations(0)
+                .validate()
+                .is_ok()
+        );
     }
 
     #[test]
