@@ -52,3 +52,8 @@ impl GpuSmoother {
         match self.never {}
     }
 }
+
+/// Always 0: this build has no GPU backend; see [`crate::adapter_requests`].
+pub fn adapter_requests() -> u64 {
+    0
+}

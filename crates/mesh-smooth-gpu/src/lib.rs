@@ -89,6 +89,25 @@ pub use filters::{bilateral_filter, laplacian_filter};
 pub use gpu::GpuSmoother;
 #[cfg(not(feature = "gpu"))]
 pub use gpu_disabled::GpuSmoother;
+/// How many times this process has asked wgpu for an adapter (each [`GpuSmoother::new`]
+/// asks once, or twice when the primary backends have none and it falls back to all).
+/// For tests and diagnostics that check a GPU context is created once and reused; always
+/// 0 without the `gpu` feature.
+///
+/// ```
+/// let before = mesh_smooth_gpu::adapter_requests();
+/// assert!(mesh_smooth_gpu::adapter_requests() >= before);
+/// ```
+pub fn adapter_requests() -> u64 {
+    #[cfg(feature = "gpu")]
+    {
+        gpu::adapter_requests()
+    }
+    #[cfg(not(feature = "gpu"))]
+    {
+        gpu_disabled::adapter_requests()
+    }
+}
 pub use grid::SlotNormals;
 pub use options::{Backend, BilateralOptions, LaplacianOptions, MAX_ITERATIONS, MAX_KERNEL};
 

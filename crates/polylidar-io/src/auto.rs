@@ -114,7 +114,7 @@ pub fn read_input(path: impl AsRef<Path>) -> Result<InputKind, IoError> {
             }
             InputKind::Depth { image, intrinsics }
         }
-        Format::RealSenseMetadata | Format::ColorImage | Format::Unknown => {
+        Format::RealSenseMetadata | Format::CameraJson | Format::ColorImage | Format::Unknown => {
             unusable(path, "metadata file")?
         }
     })

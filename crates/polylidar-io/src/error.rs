@@ -14,6 +14,8 @@ pub enum Format {
     DepthPng,
     /// RealSense `_metadata.csv` (camera intrinsics).
     RealSenseMetadata,
+    /// Open3D camera JSON (`width`, `height`, `intrinsic_matrix`).
+    CameraJson,
     /// Text table of 2D or 3D points (`.csv`, `.txt`, `.xyz`).
     CsvPoints,
     /// Stanford `.ply`.
@@ -37,6 +39,7 @@ impl fmt::Display for Format {
             Format::Npy => "NPY",
             Format::DepthPng => "depth PNG",
             Format::RealSenseMetadata => "RealSense metadata CSV",
+            Format::CameraJson => "Open3D camera JSON",
             Format::CsvPoints => "point CSV",
             Format::Ply => "PLY",
             Format::Obj => "OBJ",
@@ -119,8 +122,9 @@ pub enum ErrorKind {
     /// An error reported by a third-party decoder (png, las).
     #[error("{0}")]
     Decoder(String),
-    /// No metadata file was found beside a depth image.
-    #[error("no intrinsics metadata found; tried {}", tried.iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join(", "))]
+    /// No camera intrinsics were given for a depth image and no metadata file was found
+    /// beside it.
+    #[error("no camera intrinsics: none given and no RealSense metadata CSV beside the image; tried {}", tried.iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join(", "))]
     MissingMetadata {
         /// Paths looked at, in order.
         tried: Vec<PathBuf>,

@@ -5,6 +5,7 @@
 //! | PCD v0.7 (v0.6 headers tolerated): `ascii`, `binary`, `binary_compressed` (LZF) | [`read_pcd`], [`read_pcd_fields`] | [`write_pcd`], [`write_pcd_with_options`] |
 //! | NumPy `.npy` v1–v3, bool/int/float dtypes of either byte order, C or Fortran order | [`read_npy`] | [`write_npy_f64`], [`write_npy_f32`], [`write_npy_i32`] |
 //! | 16-bit greyscale depth PNG + RealSense `_metadata.csv` | [`read_depth_png`], [`read_realsense_intrinsics`], [`metadata_path_for`] | [`write_depth_png`] |
+//! | Open3D camera JSON (`width`, `height`, column-major `intrinsic_matrix`) | [`read_open3d_camera`], [`read_camera_file`] (JSON or CSV by extension) | — |
 //! | RealSense Viewer colorized depth pictures (8-bit RGB, Jet colormap): depth *order* only | [`read_colorized_depth_png`] | — |
 //! | text tables of 2D/3D points | [`read_csv_points`] | — |
 //! | PLY ascii / binary (both byte orders) | [`read_ply`] | [`write_ply`] (binary little-endian) |
@@ -22,7 +23,8 @@
 //! reader panic: every parser is fed random and corrupted bytes by the property tests, and
 //! sizes claimed by headers are checked against the data before anything is allocated.
 //!
-//! This crate has no feature flags.
+//! Feature `opc-mesh` (off by default) converts [`CameraIntrinsics`] into the pipeline's
+//! camera model, `opc_mesh::Intrinsics` and `opc_mesh::DepthOptions`.
 //!
 //! ```
 //! use polylidar_io::{PcdEncoding, PointCloud, encode_pcd, parse_pcd, PcdWriteOptions};
@@ -60,6 +62,7 @@ mod units;
 
 pub use auto::{InputKind, format_of, read_input};
 pub use cloud::{LasCloud, MeshData, MeshStats, PointCloud, PointTable};
+mod intrinsics;
 pub use color::{
     ColorImage, color_path_for, parse_color_image, parse_pcd_colors, read_color_image,
     read_pcd_colors,
@@ -87,6 +90,7 @@ pub use pcd::{
     write_pcd, write_pcd_with_options,
 };
 pub use ply::{
+pub use intrinsics::{parse_open3d_camera, read_camera_file, read_open3d_camera};
     encode_ply, parse_ply, parse_ply_colors, parse_ply_with_stats, read_ply, read_ply_colors,
     read_ply_with_stats, write_ply,
 };

@@ -23,8 +23,11 @@ use std::path::Path;
 
 use polylidar_io::InputKind;
 
+mod camera;
+pub use camera::{CameraSource, DEFAULT_UNITS_PER_METRE, DepthCamera, is_missing_intrinsics};
+
 use crate::output::{PolygonSet, feature_collection};
-use crate::{DepthOptions, Extraction, Intrinsics, OrganizedPointCloud, Polylidar, PolylidarError};
+use crate::{DepthOptions, Extraction, OrganizedPointCloud, Polylidar, PolylidarError};
 
 /// An input loaded for the pipeline that fits it.
 #[derive(Debug, Clone, PartialEq)]
@@ -88,17 +91,11 @@ impl Input {
                 triangles: mesh.triangles,
             },
             InputKind::Depth { image, intrinsics } => {
-                let camera =
-                    Intrinsics::new(intrinsics.fx, intrinsics.fy, intrinsics.ppx, intrinsics.ppy);
-                let mut options = DepthOptions::new(camera);
-                if let Some(scale) = intrinsics.depth_scale {
-                    options = options.with_depth_scale(scale);
-                }
                 Input::Organized(OrganizedPointCloud::from_depth_image(
                     &image.data,
                     image.height,
                     image.width,
-                    &options,
+                    &DepthOptions::from(&intrinsics),
                 )?)
             }
         })

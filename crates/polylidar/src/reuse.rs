@@ -1,12 +1,13 @@
 //! What one [`Polylidar`](crate::Polylidar) keeps between runs: the parts of the 3D
 //! pipeline that cost more to build than to use (the FastGA accumulator, the smoothers'
-//! and the segmenter's buffers).
+//! and the segmenter's buffers, the GPU smoother's adapter, device, pipelines and
+//! buffers).
 
 use std::sync::{Mutex, MutexGuard, PoisonError};
 
 use fastga::FastGa;
 use mesh_smooth_gpu::{
-    Backend, BilateralOptions, CpuSmoother, LaplacianOptions, SlotNormals, SmoothError,
+    Backend, BilateralOptions, CpuSmoother, GpuSmoother, LaplacianOptions, SlotNormals, SmoothError,
 };
 use opc_mesh::{OpcMesh, OrganizedPointCloud};
 use planeseg::Segmenter;
@@ -20,6 +21,10 @@ pub(crate) struct Reusable {
     pub fastga: Option<FastGa>,
     /// CPU smoothers: one thread, rayon.
     smoothers: [Option<CpuSmoother>; 2],
+    /// The GPU smoother (adapter, device, compiled pipelines, buffers of the last frame
+    /// shape), created on the first GPU run and kept: a stream of frames asks for one
+    /// adapter.
+    gpu: Option<GpuSmoother>,
     /// The bilateral filter's output.
     normals: SlotNormals,
     /// Planar segmentation's per-triangle buffers.
@@ -41,20 +46,30 @@ impl Reusable {
         }
     }
 
-    /// The Laplacian filter of `cloud`, on a kept smoother for the CPU backends.
+    fn gpu(&mut self) -> Result<&mut GpuSmoother, SmoothError> {
+        match &mut self.gpu {
+            Some(gpu) => Ok(gpu),
+            slot => Ok(slot.insert(GpuSmoother::new()?)),
+        }
+    }
+
+    /// The Laplacian filter of `cloud`, on a kept smoother.
     pub fn laplacian(
         &mut self,
         cloud: &OrganizedPointCloud,
         options: &LaplacianOptions,
     ) -> Result<OrganizedPointCloud, SmoothError> {
         match options.backend {
-            Backend::Gpu => mesh_smooth_gpu::laplacian_filter(cloud, options),
+            Backend::Gpu => {
+                options.validate()?;
+                self.gpu()?.laplacian(cloud, options)
+            }
             cpu => self.cpu(cpu)?.laplacian(cloud, options),
         }
     }
 
-    /// The Laplacian filter of `cloud`, overwriting it (on a kept smoother for the CPU
-    /// backends; the GPU backend filters into a new cloud that replaces it).
+    /// The Laplacian filter of `cloud`, overwriting it, on a kept smoother (the GPU
+    /// backend filters into a new cloud that replaces it).
     pub fn laplacian_in_place(
         &mut self,
         cloud: &mut OrganizedPointCloud,
@@ -62,7 +77,7 @@ impl Reusable {
     ) -> Result<(), SmoothError> {
         match options.backend {
             Backend::Gpu => {
-                *cloud = mesh_smooth_gpu::laplacian_filter(cloud, options)?;
+                *cloud = self.laplacian(cloud, options)?;
                 Ok(())
             }
             cpu => self.cpu(cpu)?.laplacian_in_place(cloud, options),
@@ -82,7 +97,7 @@ impl Reusable {
     }
 
     /// The bilateral normal filter of `cloud`'s implicit mesh, written into `opc`'s
-    /// triangle normals.
+    /// triangle normals, on a kept smoother.
     pub fn bilateral(
         &mut self,
         cloud: &OrganizedPointCloud,
@@ -91,7 +106,10 @@ impl Reusable {
     ) -> Result<(), SmoothError> {
         match options.backend {
             Backend::Gpu => {
-                mesh_smooth_gpu::bilateral_filter(cloud, options)?.apply_to_opc_mesh(opc)
+                options.validate()?;
+                self.gpu()?
+                    .bilateral(cloud, options)?
+                    .apply_to_opc_mesh(opc)
             }
             cpu => {
                 let mut normals = std::mem::take(&mut self.normals);

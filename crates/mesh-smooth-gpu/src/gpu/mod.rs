@@ -7,6 +7,7 @@
 //! the last cloud shape are kept and reused. A call uploads the cloud once, runs every
 //! iteration on the device (ping-pong buffers) and reads the result back once.
 
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::mpsc;
 
 use opc_mesh::OrganizedPointCloud;
@@ -480,10 +481,21 @@ impl ErrorScopes {
     }
 }
 
+/// Adapter requests made by [`GpuSmoother::new`] in this process; see
+/// [`crate::adapter_requests`].
+static ADAPTER_REQUESTS: AtomicU64 = AtomicU64::new(0);
+
+/// How many times this process has asked wgpu for an adapter; see
+/// [`crate::adapter_requests`].
+pub fn adapter_requests() -> u64 {
+    ADAPTER_REQUESTS.load(Ordering::Relaxed)
+}
+
 /// An adapter from the given backends (overridable by `WGPU_BACKEND`).
 async fn request_adapter(
     backends: wgpu::Backends,
 ) -> Result<wgpu::Adapter, wgpu::RequestAdapterError> {
+    ADAPTER_REQUESTS.fetch_add(1, Ordering::Relaxed);
     let instance = wgpu::Instance::new(
         wgpu::InstanceDescriptor {
             backends,
