@@ -11,7 +11,8 @@ use zune_jpeg::zune_core::colorspace::ColorSpace;
 use zune_jpeg::zune_core::options::DecoderOptions;
 
 use crate::depth::checked_buffer_size;
-use crate::error::{ErrorKind, Format, IoError, KindResult, read_file};
+use crate::error::{ErrorKind, Format, IoError, KindResult};
+use crate::limits::Limits;
 
 /// An RGB picture, row-major, top row first.
 #[derive(Debug, Clone, PartialEq, Eq, Default)]
@@ -30,8 +31,21 @@ pub struct ColorImage {
 /// # Errors
 /// Unreadable file, neither PNG nor JPEG, or a corrupt picture.
 pub fn read_color_image(path: impl AsRef<Path>) -> Result<ColorImage, IoError> {
+    read_color_image_with(path, &Limits::default())
+}
+
+/// As [`read_color_image`], within `limits` (the picture's buffers count, no pipeline
+/// share: that of the depth image it colours is counted by its reader).
+///
+/// # Errors
+/// As [`read_color_image`]; [`ErrorKind::OverBudget`] past `limits`.
+pub fn read_color_image_with(
+    path: impl AsRef<Path>,
+    limits: &Limits,
+) -> Result<ColorImage, IoError> {
     let path = path.as_ref();
-    parse_color_image(&read_file(path, Format::ColorImage)?).map_err(|e| e.at(path))
+    parse_color_image_with(&limits.read_file(path, Format::ColorImage)?, limits)
+        .map_err(|e| e.at(path))
 }
 
 /// Decodes PNG or JPEG bytes; see [`read_color_image`].
@@ -50,10 +64,18 @@ pub fn read_color_image(path: impl AsRef<Path>) -> Result<ColorImage, IoError> {
 /// # Errors
 /// As [`read_color_image`], with no file name.
 pub fn parse_color_image(bytes: &[u8]) -> Result<ColorImage, IoError> {
+    parse_color_image_with(bytes, &Limits::default())
+}
+
+/// As [`parse_color_image`], within `limits`.
+///
+/// # Errors
+/// As [`read_color_image_with`], with no file name.
+pub fn parse_color_image_with(bytes: &[u8], limits: &Limits) -> Result<ColorImage, IoError> {
     let decoded = if bytes.starts_with(&[0x89, b'P', b'N', b'G']) {
-        decode_png(bytes)
+        decode_png(bytes, limits)
     } else if bytes.starts_with(&[0xFF, 0xD8]) {
-        decode_jpeg(bytes)
+        decode_jpeg(bytes, limits)
     } else {
         Err(ErrorKind::Unsupported {
             what: "picture format",
@@ -63,13 +85,13 @@ pub fn parse_color_image(bytes: &[u8]) -> Result<ColorImage, IoError> {
     decoded.map_err(|k| IoError::new(Format::ColorImage, k))
 }
 
-fn decode_png(bytes: &[u8]) -> KindResult<ColorImage> {
+fn decode_png(bytes: &[u8], limits: &Limits) -> KindResult<ColorImage> {
     let mut decoder = png::Decoder::new(Cursor::new(bytes));
     decoder.set_transformations(png::Transformations::EXPAND | png::Transformations::STRIP_16);
     let mut reader = decoder
         .read_info()
         .map_err(|e| ErrorKind::Decoder(e.to_string()))?;
-    let size = checked_buffer_size(&reader, bytes.len())?;
+    let size = checked_buffer_size(&reader, bytes.len(), limits, 3, false)?;
     let mut buf = vec![0u8; size];
     let frame = reader
         .next_frame(&mut buf)
@@ -97,9 +119,20 @@ fn decode_png(bytes: &[u8]) -> KindResult<ColorImage> {
     image(width, height, rgb)
 }
 
-fn decode_jpeg(bytes: &[u8]) -> KindResult<ColorImage> {
+fn decode_jpeg(bytes: &[u8], limits: &Limits) -> KindResult<ColorImage> {
     let options = DecoderOptions::default().jpeg_set_out_colorspace(ColorSpace::RGB);
     let mut decoder = JpegDecoder::new_with_options(ZCursor::new(bytes), options);
+    decoder
+        .decode_headers()
+        .map_err(|e| ErrorKind::Decoder(format!("JPEG: {e:?}")))?;
+    if let Some((width, height)) = decoder.dimensions() {
+        // The decoder's RGB buffer and the pixels kept, 3 bytes each.
+        let pixels = (width as u64).saturating_mul(height as u64);
+        let estimate = (bytes.len() as u64).saturating_add(pixels.saturating_mul(6));
+        limits.check(estimate, || {
+            format!("{width} × {height} pixels: 3 bytes decoded and 3 bytes kept per pixel")
+        })?;
+    }
     let pixels = decoder
         .decode()
         .map_err(|e| ErrorKind::Decoder(format!("JPEG: {e:?}")))?;
@@ -156,7 +189,9 @@ pub fn color_path_for(depth: impl AsRef<Path>) -> Result<PathBuf, IoError> {
 /// As [`crate::read_pcd`].
 pub fn read_pcd_colors(path: impl AsRef<Path>) -> Result<Option<Vec<[u8; 3]>>, IoError> {
     let path = path.as_ref();
-    parse_pcd_colors(&read_file(path, Format::Pcd)?).map_err(|e| e.at(path))
+    let limits = Limits::default();
+    crate::pcd::packed_colors(&limits.read_file(path, Format::Pcd)?, &limits)
+        .map_err(|k| IoError::new(Format::Pcd, k).at(path))
 }
 
 /// Parses the colours of PCD bytes; see [`read_pcd_colors`].
@@ -164,7 +199,7 @@ pub fn read_pcd_colors(path: impl AsRef<Path>) -> Result<Option<Vec<[u8; 3]>>, I
 /// # Errors
 /// As [`crate::parse_pcd`].
 pub fn parse_pcd_colors(bytes: &[u8]) -> Result<Option<Vec<[u8; 3]>>, IoError> {
-    crate::pcd::packed_colors(bytes).map_err(|k| IoError::new(Format::Pcd, k))
+    crate::pcd::packed_colors(bytes, &Limits::default()).map_err(|k| IoError::new(Format::Pcd, k))
 }
 
 /// The bytes of a packed PCL colour.

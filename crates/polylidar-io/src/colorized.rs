@@ -13,7 +13,8 @@ use std::io::Cursor;
 use std::path::Path;
 
 use crate::depth::{DepthImage, bit_text, checked_buffer_size};
-use crate::error::{ErrorKind, Format, IoError, KindResult, read_file};
+use crate::error::{ErrorKind, Format, IoError, KindResult};
+use crate::limits::Limits;
 
 /// The Jet colormap of the RealSense colorizer, near to far.
 const JET: [[f32; 3]; 5] = [
@@ -99,8 +100,20 @@ fn jet_position(c: [f32; 3]) -> (f32, f32) {
 /// Unreadable or corrupt PNG, an image that is not 8-bit RGB, or more than 1 % of coloured
 /// pixels off the Jet colormap (not a colorized depth picture).
 pub fn read_colorized_depth_png(path: impl AsRef<Path>) -> Result<ColorizedDepth, IoError> {
+    read_colorized_depth_png_with(path, &Limits::default())
+}
+
+/// As [`read_colorized_depth_png`], within `limits`.
+///
+/// # Errors
+/// As [`read_colorized_depth_png`]; [`ErrorKind::OverBudget`] past `limits`.
+pub fn read_colorized_depth_png_with(
+    path: impl AsRef<Path>,
+    limits: &Limits,
+) -> Result<ColorizedDepth, IoError> {
     let path = path.as_ref();
-    parse_colorized_depth_png(&read_file(path, Format::DepthPng)?).map_err(|e| e.at(path))
+    parse_colorized_depth_png_with(&limits.read_file(path, Format::DepthPng)?, limits)
+        .map_err(|e| e.at(path))
 }
 
 /// Decodes a colorized depth picture from PNG bytes; see [`read_colorized_depth_png`].
@@ -108,10 +121,21 @@ pub fn read_colorized_depth_png(path: impl AsRef<Path>) -> Result<ColorizedDepth
 /// # Errors
 /// As [`read_colorized_depth_png`], with no file name.
 pub fn parse_colorized_depth_png(bytes: &[u8]) -> Result<ColorizedDepth, IoError> {
-    decode(bytes).map_err(|k| IoError::new(Format::DepthPng, k))
+    parse_colorized_depth_png_with(bytes, &Limits::default())
 }
 
-fn decode(bytes: &[u8]) -> KindResult<ColorizedDepth> {
+/// As [`parse_colorized_depth_png`], within `limits`.
+///
+/// # Errors
+/// As [`read_colorized_depth_png_with`], with no file name.
+pub fn parse_colorized_depth_png_with(
+    bytes: &[u8],
+    limits: &Limits,
+) -> Result<ColorizedDepth, IoError> {
+    decode(bytes, limits).map_err(|k| IoError::new(Format::DepthPng, k))
+}
+
+fn decode(bytes: &[u8], limits: &Limits) -> KindResult<ColorizedDepth> {
     let mut reader = png::Decoder::new(Cursor::new(bytes))
         .read_info()
         .map_err(|e| ErrorKind::Decoder(e.to_string()))?;
@@ -122,7 +146,8 @@ fn decode(bytes: &[u8]) -> KindResult<ColorizedDepth> {
             bit_text(depth)
         )));
     }
-    let size = checked_buffer_size(&reader, bytes.len())?;
+    // The decoder's buffer, the f32 depth order, and the cloud and mesh made of each pixel.
+    let size = checked_buffer_size(&reader, bytes.len(), limits, 4, true)?;
     let mut buf = vec![0u8; size];
     let frame = reader
         .next_frame(&mut buf)

@@ -3,7 +3,8 @@
 use std::io::Cursor;
 use std::path::{Path, PathBuf};
 
-use crate::error::{ErrorKind, Format, IoError, KindResult, read_file, write_file};
+use crate::error::{ErrorKind, Format, IoError, KindResult, write_file};
+use crate::limits::{Limits, times};
 
 /// A 16-bit single-channel depth image, row-major; 0 means "no depth".
 #[derive(Debug, Clone, PartialEq, Eq, Default)]
@@ -39,10 +40,19 @@ pub struct CameraIntrinsics {
 ///
 /// # Errors
 /// Unreadable or corrupt PNG, or an image that is not 16-bit single-channel (8-bit,
-/// colour, alpha or palette images are rejected rather than guessed at).
+/// colour, alpha or palette images are rejected rather than guessed at); more pixels than
+/// the default [`Limits`] allow (each costs its decoded bytes and the pipeline's share).
 pub fn read_depth_png(path: impl AsRef<Path>) -> Result<DepthImage, IoError> {
+    read_depth_png_with(path, &Limits::default())
+}
+
+/// As [`read_depth_png`], within `limits`.
+///
+/// # Errors
+/// As [`read_depth_png`]; [`ErrorKind::OverBudget`] past `limits`.
+pub fn read_depth_png_with(path: impl AsRef<Path>, limits: &Limits) -> Result<DepthImage, IoError> {
     let path = path.as_ref();
-    parse_depth_png(&read_file(path, Format::DepthPng)?).map_err(|e| e.at(path))
+    parse_depth_png_with(&limits.read_file(path, Format::DepthPng)?, limits).map_err(|e| e.at(path))
 }
 
 /// Decodes 16-bit greyscale PNG bytes; see [`read_depth_png`].
@@ -50,10 +60,18 @@ pub fn read_depth_png(path: impl AsRef<Path>) -> Result<DepthImage, IoError> {
 /// # Errors
 /// As [`read_depth_png`], with no file name.
 pub fn parse_depth_png(bytes: &[u8]) -> Result<DepthImage, IoError> {
-    decode_png(bytes).map_err(|k| IoError::new(Format::DepthPng, k))
+    parse_depth_png_with(bytes, &Limits::default())
 }
 
-fn decode_png(bytes: &[u8]) -> KindResult<DepthImage> {
+/// As [`parse_depth_png`], within `limits`.
+///
+/// # Errors
+/// As [`read_depth_png_with`], with no file name.
+pub fn parse_depth_png_with(bytes: &[u8], limits: &Limits) -> Result<DepthImage, IoError> {
+    decode_png(bytes, limits).map_err(|k| IoError::new(Format::DepthPng, k))
+}
+
+fn decode_png(bytes: &[u8], limits: &Limits) -> KindResult<DepthImage> {
     let decoder = png::Decoder::new(Cursor::new(bytes));
     let mut reader = decoder
         .read_info()
@@ -71,7 +89,8 @@ fn decode_png(bytes: &[u8]) -> KindResult<DepthImage> {
             bit_text(depth)
         )));
     }
-    let size = checked_buffer_size(&reader, bytes.len())?;
+    // The decoder's buffer, the u16 samples, and the cloud and mesh made of each pixel.
+    let size = checked_buffer_size(&reader, bytes.len(), limits, 2, true)?;
     let mut buf = vec![0u8; size];
     let frame = reader
         .next_frame(&mut buf)
@@ -99,19 +118,44 @@ fn decode_png(bytes: &[u8]) -> KindResult<DepthImage> {
 const MAX_INFLATE_RATIO: usize = 1100;
 
 /// The decoder's output buffer size, refused when the header claims more pixels than
-/// `file_len` compressed bytes can hold (a corrupt header would otherwise allocate GiBs).
+/// `file_len` compressed bytes can hold (a corrupt header would otherwise allocate GiBs),
+/// or when the buffer, `decoded_per_pixel` bytes of the caller's copy per pixel and (with
+/// `pipeline`) the pipeline's share per pixel exceed `limits`.
 pub(crate) fn checked_buffer_size<R: std::io::BufRead + std::io::Seek>(
     reader: &png::Reader<R>,
     file_len: usize,
+    limits: &Limits,
+    decoded_per_pixel: u64,
+    pipeline: bool,
 ) -> KindResult<usize> {
-    let size = reader
-        .output_buffer_size()
-        .ok_or_else(|| ErrorKind::Decoder("image too large".to_owned()))?;
+    let (width, height) = (reader.info().width, reader.info().height);
+    let size = reader.output_buffer_size().ok_or_else(|| {
+        ErrorKind::Decoder(format!("a {width} × {height} image is too large to decode"))
+    })?;
     if size > file_len.saturating_mul(MAX_INFLATE_RATIO) {
         return Err(ErrorKind::Corrupt(format!(
-            "the header claims {size} bytes of pixels, more than {file_len} compressed bytes can hold"
+            "the header claims {width} × {height} pixels ({size} bytes), more than \
+             {file_len} compressed bytes can hold"
         )));
     }
+    let pixels = u64::from(width) * u64::from(height);
+    let share = if pipeline { limits.pipeline(pixels) } else { 0 };
+    let estimate = (file_len as u64)
+        .saturating_add(size as u64)
+        .saturating_add(pixels.saturating_mul(decoded_per_pixel))
+        .saturating_add(share);
+    limits.check(estimate, || {
+        format!(
+            "{width} × {height} pixels: {} bytes decoded, {decoded_per_pixel} bytes kept and \
+             {} bytes in the pipeline per pixel",
+            times(size, 1).checked_div(pixels).unwrap_or(0),
+            if pipeline {
+                limits.pipeline_bytes_per_point
+            } else {
+                0
+            }
+        )
+    })?;
     Ok(size)
 }
 
@@ -176,9 +220,15 @@ pub fn encode_depth_png(image: &DepthImage) -> Result<Vec<u8>, IoError> {
 /// Unreadable file, a needed key missing, or a value that is not a number.
 pub fn read_realsense_intrinsics(path: impl AsRef<Path>) -> Result<CameraIntrinsics, IoError> {
     let path = path.as_ref();
-    let bytes = read_file(path, Format::RealSenseMetadata)?;
+    // A metadata file is a few hundred bytes: 16 MiB bounds a FIFO or device named like one.
+    let bytes = Limits::default()
+        .with_max_memory(METADATA_MAX_BYTES)
+        .read_file(path, Format::RealSenseMetadata)?;
     parse_realsense_intrinsics(&String::from_utf8_lossy(&bytes)).map_err(|e| e.at(path))
 }
+
+/// The most bytes a RealSense metadata file may hold.
+const METADATA_MAX_BYTES: u64 = 16 << 20;
 
 /// Parses RealSense metadata CSV text; see [`read_realsense_intrinsics`].
 ///

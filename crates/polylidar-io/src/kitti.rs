@@ -7,7 +7,8 @@
 
 use std::path::Path;
 
-use crate::error::{ErrorKind, Format, IoError, KindResult, read_file, write_file};
+use crate::error::{ErrorKind, Format, IoError, KindResult, write_file};
+use crate::limits::{Limits, times};
 
 /// Bytes per KITTI record: four little-endian float32 (`x y z reflectance`).
 pub const KITTI_RECORD_BYTES: usize = 16;
@@ -52,10 +53,18 @@ impl KittiScan {
 /// # Errors
 /// An [`IoError`] for an unreadable file, an empty one, a size that is not a whole number
 /// of 16-byte records (naming the stray bytes), or a non-finite value (naming the record
-/// and the field).
+/// and the field), more points than the default [`Limits`] allow.
 pub fn read_kitti_bin(path: impl AsRef<Path>) -> Result<KittiScan, IoError> {
+    read_kitti_bin_with(path, &Limits::default())
+}
+
+/// As [`read_kitti_bin`], within `limits`.
+///
+/// # Errors
+/// As [`read_kitti_bin`]; [`ErrorKind::OverBudget`] past `limits`.
+pub fn read_kitti_bin_with(path: impl AsRef<Path>, limits: &Limits) -> Result<KittiScan, IoError> {
     let path = path.as_ref();
-    parse_kitti_bin(&read_file(path, Format::KittiBin)?).map_err(|e| e.at(path))
+    parse_kitti_bin_with(&limits.read_file(path, Format::KittiBin)?, limits).map_err(|e| e.at(path))
 }
 
 /// Parses the bytes of a KITTI `.bin` frame; see [`read_kitti_bin`].
@@ -77,7 +86,15 @@ pub fn read_kitti_bin(path: impl AsRef<Path>) -> Result<KittiScan, IoError> {
 /// # Errors
 /// As [`read_kitti_bin`], with no file name.
 pub fn parse_kitti_bin(bytes: &[u8]) -> Result<KittiScan, IoError> {
-    parse(bytes).map_err(|k| IoError::new(Format::KittiBin, k))
+    parse_kitti_bin_with(bytes, &Limits::default())
+}
+
+/// As [`parse_kitti_bin`], within `limits`.
+///
+/// # Errors
+/// As [`read_kitti_bin_with`], with no file name.
+pub fn parse_kitti_bin_with(bytes: &[u8], limits: &Limits) -> Result<KittiScan, IoError> {
+    parse(bytes, limits).map_err(|k| IoError::new(Format::KittiBin, k))
 }
 
 /// The bytes of a KITTI `.bin` frame (coordinates rounded to float32).
@@ -116,7 +133,7 @@ pub fn write_kitti_bin(path: impl AsRef<Path>, scan: &KittiScan) -> Result<(), I
 
 const FIELDS: [&str; 4] = ["x", "y", "z", "reflectance"];
 
-fn parse(bytes: &[u8]) -> KindResult<KittiScan> {
+fn parse(bytes: &[u8], limits: &Limits) -> KindResult<KittiScan> {
     if bytes.is_empty() {
         return Err(ErrorKind::Unusable("empty file: no points".to_owned()));
     }
@@ -130,6 +147,16 @@ fn parse(bytes: &[u8]) -> KindResult<KittiScan> {
         )));
     }
     let n = bytes.len() / KITTI_RECORD_BYTES;
+    // The points (24 bytes), reflectance (4) and the pipeline's share of each.
+    let estimate = (bytes.len() as u64)
+        .saturating_add(times(n, 28))
+        .saturating_add(limits.pipeline(n as u64));
+    limits.check(estimate, || {
+        format!(
+            "{n} records: 28 bytes read and {} bytes in the pipeline per point",
+            limits.pipeline_bytes_per_point
+        )
+    })?;
     let mut points = Vec::with_capacity(n);
     let mut reflectance = Vec::with_capacity(n);
     for (record, chunk) in bytes.chunks_exact(KITTI_RECORD_BYTES).enumerate() {

@@ -32,12 +32,7 @@ const MAX_RATIO: usize = MAX_REF.div_ceil(3);
 pub fn decompress(input: &[u8], expected_len: usize) -> Result<Vec<u8>, ErrorKind> {
     let corrupt =
         |at: usize, what: &str| ErrorKind::Corrupt(format!("LZF chunk at byte {at}: {what}"));
-    if expected_len > input.len().saturating_mul(MAX_RATIO) {
-        return Err(ErrorKind::Corrupt(format!(
-            "LZF claims {expected_len} bytes from {} compressed bytes, more than the format can expand to",
-            input.len()
-        )));
-    }
+    check_expansion(input.len(), expected_len)?;
     let mut out: Vec<u8> = Vec::with_capacity(expected_len);
     let mut i = 0;
     while i < input.len() {
@@ -108,6 +103,21 @@ pub fn decompress(input: &[u8], expected_len: usize) -> Result<Vec<u8>, ErrorKin
         )));
     }
     Ok(out)
+}
+
+/// Checks that `compressed` bytes of LZF can expand to `expected_len` bytes at all (a
+/// back-reference of 3 bytes yields at most 264), before anything is allocated.
+///
+/// # Errors
+/// [`ErrorKind::Corrupt`] naming both sizes when they cannot match.
+pub fn check_expansion(compressed: usize, expected_len: usize) -> Result<(), ErrorKind> {
+    if expected_len > compressed.saturating_mul(MAX_RATIO) {
+        return Err(ErrorKind::Corrupt(format!(
+            "LZF claims {expected_len} bytes from {compressed} compressed bytes, more than \
+             the format can expand to ({MAX_RATIO}:1)"
+        )));
+    }
+    Ok(())
 }
 
 fn hash3(a: u8, b: u8, c: u8) -> usize {

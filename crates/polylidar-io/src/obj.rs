@@ -3,7 +3,8 @@
 use std::path::Path;
 
 use crate::cloud::{MeshData, MeshStats};
-use crate::error::{ErrorKind, Format, IoError, KindResult, read_file};
+use crate::error::{ErrorKind, Format, IoError, KindResult};
+use crate::limits::{Limits, times};
 
 /// Reads the vertices (`v x y z`) and faces (`f a b c …` with `a`, `a/t`, `a//n` or
 /// `a/t/n` corners, 1-based or negative indices) of an OBJ file; polygons are
@@ -22,8 +23,21 @@ pub fn read_obj(path: impl AsRef<Path>) -> Result<MeshData, IoError> {
 /// # Errors
 /// As [`read_obj`].
 pub fn read_obj_with_stats(path: impl AsRef<Path>) -> Result<(MeshData, MeshStats), IoError> {
+    read_obj_with(path, &Limits::default())
+}
+
+/// As [`read_obj_with_stats`], within `limits` (counted from the `v` and `f` statements
+/// before any is stored: each vertex 24 bytes and the pipeline's share, each triangle of a
+/// face 12 bytes and half that share).
+///
+/// # Errors
+/// As [`read_obj`]; [`ErrorKind::OverBudget`] past `limits`.
+pub fn read_obj_with(
+    path: impl AsRef<Path>,
+    limits: &Limits,
+) -> Result<(MeshData, MeshStats), IoError> {
     let path = path.as_ref();
-    parse_obj_with_stats(&read_file(path, Format::Obj)?).map_err(|e| e.at(path))
+    parse_obj_with(&limits.read_file(path, Format::Obj)?, limits).map_err(|e| e.at(path))
 }
 
 /// Parses OBJ bytes; see [`read_obj`].
@@ -39,7 +53,49 @@ pub fn parse_obj(bytes: &[u8]) -> Result<MeshData, IoError> {
 /// # Errors
 /// As [`read_obj`], with no file name.
 pub fn parse_obj_with_stats(bytes: &[u8]) -> Result<(MeshData, MeshStats), IoError> {
-    parse(bytes).map_err(|k| IoError::new(Format::Obj, k))
+    parse_obj_with(bytes, &Limits::default())
+}
+
+/// As [`parse_obj_with_stats`], within `limits`.
+///
+/// # Errors
+/// As [`read_obj_with`], with no file name.
+pub fn parse_obj_with(bytes: &[u8], limits: &Limits) -> Result<(MeshData, MeshStats), IoError> {
+    check_budget(bytes, limits)
+        .and_then(|()| parse(bytes))
+        .map_err(|k| IoError::new(Format::Obj, k))
+}
+
+/// Counts the `v` and `f` statements and face corners, and checks what they will cost.
+fn check_budget(bytes: &[u8], limits: &Limits) -> KindResult<()> {
+    let (mut vertices, mut faces, mut corners) = (0usize, 0usize, 0usize);
+    for raw in bytes.split(|&b| b == b'\n') {
+        let mut words = raw.split(u8::is_ascii_whitespace).filter(|w| !w.is_empty());
+        match words.next() {
+            Some(b"v") => vertices += 1,
+            Some(b"f") => {
+                faces += 1;
+                corners += words.count();
+            }
+            _ => {}
+        }
+    }
+    let triangles = corners.saturating_sub(2 * faces);
+    // A pending face keeps its corners (16 bytes each) until the vertices are known.
+    let estimate = (bytes.len() as u64)
+        .saturating_add(times(vertices, 24))
+        .saturating_add(limits.pipeline(vertices as u64))
+        .saturating_add(times(faces, 40))
+        .saturating_add(times(corners, 16))
+        .saturating_add(times(triangles, 12))
+        .saturating_add(limits.pipeline(triangles as u64) / 2);
+    limits.check(estimate, || {
+        format!(
+            "{vertices} vertices and {faces} faces ({triangles} triangles), with {} bytes per \
+             vertex in the pipeline",
+            limits.pipeline_bytes_per_point
+        )
+    })
 }
 
 /// A face corner: the index as written and its 0-based resolution.

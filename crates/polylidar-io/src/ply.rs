@@ -4,7 +4,8 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use crate::cloud::{MeshData, MeshStats};
-use crate::error::{ErrorKind, Format, IoError, KindResult, read_file, take, write_file};
+use crate::error::{ErrorKind, Format, IoError, KindResult, take, write_file};
+use crate::limits::{Limits, times};
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Encoding {
@@ -187,13 +188,40 @@ impl Body<'_> {
             .flatten()
     }
 
+    /// An error about the value at byte `offset`: named by its line in an ascii body, by
+    /// its byte offset in a binary one.
+    fn error_at(&self, offset: usize, reason: String) -> ErrorKind {
+        if self.encoding == Encoding::Ascii {
+            let upto = &self.bytes[..offset.min(self.bytes.len())];
+            let line = upto.iter().filter(|&&b| b == b'\n').count() + 1;
+            ErrorKind::Line { line, reason }
+        } else {
+            ErrorKind::Value { offset, reason }
+        }
+    }
+
+    /// Where the next value starts (after the whitespace of an ascii body).
+    fn value_start(&self) -> usize {
+        let mut pos = self.pos;
+        if self.encoding == Encoding::Ascii {
+            while self.bytes.get(pos).is_some_and(u8::is_ascii_whitespace) {
+                pos += 1;
+            }
+        }
+        pos
+    }
+
     fn scalar(&mut self, ty: Ty, what: &'static str) -> KindResult<f64> {
         if self.encoding == Encoding::Ascii {
-            let offset = self.pos;
+            let offset = self.value_start();
             return match self.next_token() {
-                Some(t) => t.parse::<f64>().map_err(|_| {
-                    ErrorKind::Corrupt(format!("{what}: {t:?} at byte {offset} is not a number"))
-                }),
+                Some(t) => match t.parse::<f64>() {
+                    Ok(v) => Ok(v),
+                    Err(_) => {
+                        let reason = format!("{what} {t:?} is not a number");
+                        Err(self.error_at(offset, reason))
+                    }
+                },
                 None => Err(ErrorKind::Truncated {
                     what,
                     offset,
@@ -229,13 +257,26 @@ impl Body<'_> {
     }
 
     fn list_len(&mut self, ty: Ty) -> KindResult<usize> {
+        let offset = self.value_start();
         let n = self.scalar(ty, "list length")?;
         if n.fract() != 0.0 || !(0.0..=f64::from(u32::MAX)).contains(&n) {
-            return Err(ErrorKind::Corrupt(format!(
-                "list length {n} is not a count"
-            )));
+            return Err(self.error_at(offset, format!("list length {n} is not a count")));
         }
         Ok(n as usize)
+    }
+
+    /// A face's vertex index: a whole number (its range is checked once all vertices are
+    /// known).
+    fn index(&mut self, ty: Ty, face: usize) -> KindResult<f64> {
+        let offset = self.value_start();
+        let v = self.scalar(ty, "face vertex index")?;
+        if v.fract() != 0.0 || !v.is_finite() {
+            return Err(self.error_at(
+                offset,
+                format!("face {face}: vertex index {v} is not a whole number"),
+            ));
+        }
+        Ok(v)
     }
 }
 
@@ -255,8 +296,21 @@ pub fn read_ply(path: impl AsRef<Path>) -> Result<MeshData, IoError> {
 /// # Errors
 /// As [`read_ply`].
 pub fn read_ply_with_stats(path: impl AsRef<Path>) -> Result<(MeshData, MeshStats), IoError> {
+    read_ply_with(path, &Limits::default())
+}
+
+/// As [`read_ply_with_stats`], within `limits` (counted from the header's element counts
+/// before anything is read: each vertex 24 bytes and the pipeline's share, each face its
+/// indices, its triangle and half that share).
+///
+/// # Errors
+/// As [`read_ply`]; [`ErrorKind::OverBudget`] past `limits`.
+pub fn read_ply_with(
+    path: impl AsRef<Path>,
+    limits: &Limits,
+) -> Result<(MeshData, MeshStats), IoError> {
     let path = path.as_ref();
-    parse_ply_with_stats(&read_file(path, Format::Ply)?).map_err(|e| e.at(path))
+    parse_ply_with(&limits.read_file(path, Format::Ply)?, limits).map_err(|e| e.at(path))
 }
 
 /// Parses PLY bytes; see [`read_ply`].
@@ -272,11 +326,73 @@ pub fn parse_ply(bytes: &[u8]) -> Result<MeshData, IoError> {
 /// # Errors
 /// As [`read_ply`], with no file name.
 pub fn parse_ply_with_stats(bytes: &[u8]) -> Result<(MeshData, MeshStats), IoError> {
-    parse(bytes).map_err(|k| IoError::new(Format::Ply, k))
+    parse_ply_with(bytes, &Limits::default())
 }
 
-fn parse(bytes: &[u8]) -> KindResult<(MeshData, MeshStats)> {
+/// As [`parse_ply_with_stats`], within `limits`.
+///
+/// # Errors
+/// As [`read_ply_with`], with no file name.
+pub fn parse_ply_with(bytes: &[u8], limits: &Limits) -> Result<(MeshData, MeshStats), IoError> {
+    parse(bytes, limits).map_err(|k| IoError::new(Format::Ply, k))
+}
+
+/// Fewest bytes one record of `element` takes in the body: its scalars (binary) or a digit
+/// and a separator per scalar (ascii); lists count their length alone.
+fn min_record_bytes(element: &Element, encoding: Encoding) -> usize {
+    element
+        .properties
+        .iter()
+        .map(|p| match encoding {
+            Encoding::Ascii => 2,
+            _ => p.list.unwrap_or(p.ty).size(),
+        })
+        .sum()
+}
+
+/// Checks that the body can hold the records the header declares, then that they fit the
+/// budget, before anything is allocated.
+fn check_counts(header: &Header, bytes: &[u8], limits: &Limits) -> KindResult<()> {
+    let room = bytes.len() - header.body_start;
+    let mut needed = 0usize;
+    for element in &header.elements {
+        let per = min_record_bytes(element, header.encoding);
+        needed = needed.saturating_add(element.count.saturating_mul(per));
+        if needed > room + 1 {
+            return Err(ErrorKind::Truncated {
+                what: "the records the header declares",
+                offset: header.body_start,
+                needed,
+                available: room,
+            });
+        }
+    }
+    let count = |name: &str| {
+        header
+            .elements
+            .iter()
+            .filter(|e| e.name == name)
+            .map(|e| e.count)
+            .sum::<usize>()
+    };
+    let (vertices, faces) = (count("vertex"), count("face"));
+    // Per face: three f64 indices, where it starts, its triangle.
+    let estimate = (bytes.len() as u64)
+        .saturating_add(times(vertices, 24))
+        .saturating_add(limits.pipeline(vertices as u64))
+        .saturating_add(times(faces, 44))
+        .saturating_add(limits.pipeline(faces as u64) / 2);
+    limits.check(estimate, || {
+        format!(
+            "{vertices} vertices and {faces} faces, with {} bytes per vertex in the pipeline",
+            limits.pipeline_bytes_per_point
+        )
+    })
+}
+
+fn parse(bytes: &[u8], limits: &Limits) -> KindResult<(MeshData, MeshStats)> {
     let header = parse_header(bytes)?;
+    check_counts(&header, bytes, limits)?;
     let mut body = Body {
         bytes,
         pos: header.body_start,
@@ -313,7 +429,12 @@ fn parse(bytes: &[u8]) -> KindResult<(MeshData, MeshStats)> {
 /// As [`read_ply`].
 pub fn read_ply_colors(path: impl AsRef<Path>) -> Result<Option<Vec<[u8; 3]>>, IoError> {
     let path = path.as_ref();
-    parse_ply_colors(&read_file(path, Format::Ply)?).map_err(|e| e.at(path))
+    let limits = Limits::default();
+    vertex_colors(
+        &limits.read_file(path, Format::Ply)?,
+        &limits.reading_only(),
+    )
+    .map_err(|k| IoError::new(Format::Ply, k).at(path))
 }
 
 /// Parses the vertex colours of PLY bytes; see [`read_ply_colors`].
@@ -321,11 +442,13 @@ pub fn read_ply_colors(path: impl AsRef<Path>) -> Result<Option<Vec<[u8; 3]>>, I
 /// # Errors
 /// As [`parse_ply`].
 pub fn parse_ply_colors(bytes: &[u8]) -> Result<Option<Vec<[u8; 3]>>, IoError> {
-    vertex_colors(bytes).map_err(|k| IoError::new(Format::Ply, k))
+    vertex_colors(bytes, &Limits::default().reading_only())
+        .map_err(|k| IoError::new(Format::Ply, k))
 }
 
-fn vertex_colors(bytes: &[u8]) -> KindResult<Option<Vec<[u8; 3]>>> {
+fn vertex_colors(bytes: &[u8], limits: &Limits) -> KindResult<Option<Vec<[u8; 3]>>> {
     let header = parse_header(bytes)?;
+    check_counts(&header, bytes, limits)?;
     let mut body = Body {
         bytes,
         pos: header.body_start,
@@ -438,14 +561,14 @@ fn read_faces(
         .position(|p| p.list.is_some() && (p.name == "vertex_indices" || p.name == "vertex_index"))
         .ok_or_else(|| ErrorKind::MissingField("face list vertex_indices".to_owned()))?;
     face_starts.reserve(element.count.min(room));
-    for _ in 0..element.count {
+    for face in 0..element.count {
         for (k, p) in element.properties.iter().enumerate() {
             match p.list {
                 Some(count_ty) if k == index_prop => {
                     let n = body.list_len(count_ty)?;
                     face_starts.push(corners.len());
                     for _ in 0..n {
-                        corners.push(body.scalar(p.ty, "face vertex index")?);
+                        corners.push(body.index(p.ty, face)?);
                     }
                 }
                 _ => {
@@ -638,6 +761,28 @@ property double y\nproperty int z\nelement face 1\nproperty list uint ushort ver
         let text = String::from_utf8_lossy(ASCII).replace("property float y\n", "");
         assert!(parse_ply(text.as_bytes()).is_err());
         assert!(parse_ply(b"ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\n").is_err());
+    }
+
+    #[test]
+    fn ascii_errors_name_the_line_and_indices_must_be_whole() {
+        let text = String::from_utf8_lossy(ASCII).replace("1 1 0 3", "1 x 0 3");
+        let e = parse_ply(text.as_bytes()).unwrap_err();
+        assert!(matches!(e.kind, ErrorKind::Line { line: 15, .. }), "{e}");
+        assert!(!e.to_string().contains("compressed"), "{e}");
+        let text = String::from_utf8_lossy(ASCII).replace("3 1 4 2", "3 1.5 4 2");
+        let e = parse_ply(text.as_bytes()).unwrap_err();
+        assert!(
+            e.to_string()
+                .contains("vertex index 1.5 is not a whole number"),
+            "{e}"
+        );
+        assert!(matches!(e.kind, ErrorKind::Line { line: 19, .. }), "{e}");
+    }
+
+    #[test]
+    fn claimed_counts_are_checked_before_reading() {
+        let e = parse_ply(b"ply\nformat binary_little_endian 1.0\nelement vertex 4000000000\nproperty float x\nproperty float y\nproperty float z\nend_header\n").unwrap_err();
+        assert!(matches!(e.kind, ErrorKind::Truncated { .. }), "{e}");
     }
 
     #[test]

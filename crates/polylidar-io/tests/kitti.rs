@@ -12,7 +12,7 @@ use proptest::prelude::*;
 /// What a KITTI file of `bytes` holds, decoded independently of the reader: `None` when the
 /// reader must refuse it.
 fn oracle(bytes: &[u8]) -> Option<Vec<[f32; 4]>> {
-    if bytes.is_empty() || bytes.len() % 16 != 0 {
+    if bytes.is_empty() || !bytes.len().is_multiple_of(16) {
         return None;
     }
     let words: Vec<f32> = bytes

@@ -8,7 +8,8 @@ use std::path::Path;
 pub use header::Dtype;
 
 use crate::cloud::PointCloud;
-use crate::error::{ErrorKind, Format, IoError, KindResult, read_file, take, write_file};
+use crate::error::{ErrorKind, Format, IoError, KindResult, take, write_file};
+use crate::limits::{Limits, times};
 
 /// An n-dimensional array in C (row-major) order, converted to `f64`.
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -91,10 +92,20 @@ impl NpyArray {
 ///
 /// # Errors
 /// An [`IoError`] naming the file and the problem: bad magic, malformed header dictionary,
-/// unsupported dtype (complex, half, structured, strings), truncated data, trailing bytes.
+/// unsupported dtype (complex, half, structured, strings), truncated data, trailing bytes,
+/// more values than the default [`Limits`] allow (8 bytes each, and the pipeline's share
+/// per row of the last axis).
 pub fn read_npy(path: impl AsRef<Path>) -> Result<NpyArray, IoError> {
+    read_npy_with(path, &Limits::default())
+}
+
+/// As [`read_npy`], within `limits`.
+///
+/// # Errors
+/// As [`read_npy`]; [`ErrorKind::OverBudget`] past `limits`.
+pub fn read_npy_with(path: impl AsRef<Path>, limits: &Limits) -> Result<NpyArray, IoError> {
     let path = path.as_ref();
-    parse_npy(&read_file(path, Format::Npy)?).map_err(|e| e.at(path))
+    parse_npy_with(&limits.read_file(path, Format::Npy)?, limits).map_err(|e| e.at(path))
 }
 
 /// Parses NPY bytes; see [`read_npy`].
@@ -102,10 +113,18 @@ pub fn read_npy(path: impl AsRef<Path>) -> Result<NpyArray, IoError> {
 /// # Errors
 /// As [`read_npy`], with no file name.
 pub fn parse_npy(bytes: &[u8]) -> Result<NpyArray, IoError> {
-    parse(bytes).map_err(err)
+    parse_npy_with(bytes, &Limits::default())
 }
 
-fn parse(bytes: &[u8]) -> KindResult<NpyArray> {
+/// As [`parse_npy`], within `limits`.
+///
+/// # Errors
+/// As [`read_npy_with`], with no file name.
+pub fn parse_npy_with(bytes: &[u8], limits: &Limits) -> Result<NpyArray, IoError> {
+    parse(bytes, limits).map_err(err)
+}
+
+fn parse(bytes: &[u8], limits: &Limits) -> KindResult<NpyArray> {
     let h = header::parse_header(bytes)?;
     let count = h
         .shape
@@ -124,6 +143,33 @@ fn parse(bytes: &[u8]) -> KindResult<NpyArray> {
             shape_text(&h.shape)
         )));
     }
+    // The f64 values (twice for Fortran order: the transposed copy), and the pipeline's
+    // share per point: a row of the last axis ((N, 3), (H, W, 3), (N, 2)).
+    let copies = if h.fortran_order && h.shape.len() > 1 {
+        2
+    } else {
+        1
+    };
+    let points = match h.shape.as_slice() {
+        [.., last] if h.shape.len() > 1 => count.checked_div(*last).unwrap_or(0),
+        _ => count,
+    };
+    let estimate = (bytes.len() as u64)
+        .saturating_add(times(count, 8 * copies))
+        .saturating_add(limits.pipeline(points as u64));
+    limits.check(estimate, || {
+        format!(
+            "an array of shape {}: {count} values of 8 bytes{}, {points} points of {} bytes in \
+             the pipeline",
+            shape_text(&h.shape),
+            if copies == 2 {
+                " (twice: Fortran order)"
+            } else {
+                ""
+            },
+            limits.pipeline_bytes_per_point
+        )
+    })?;
     let mut data = convert(raw, h.dtype, h.big_endian);
     if h.fortran_order && h.shape.len() > 1 {
         data = fortran_to_c(&data, &h.shape);

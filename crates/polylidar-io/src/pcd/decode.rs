@@ -25,7 +25,15 @@ pub struct Data<'a> {
 
 /// Checks that the data following the header can hold `WIDTH × HEIGHT` points (and
 /// decompresses it), so that callers may allocate per-point storage safely.
-pub fn prepare<'a>(header: &'a PcdHeader, bytes: &'a [u8]) -> KindResult<Data<'a>> {
+///
+/// `budget` is called once the extent of the data has been checked and before anything is
+/// allocated, with the bytes the decompressed block will take (0 when nothing is
+/// decompressed); its error stops the read.
+pub fn prepare<'a>(
+    header: &'a PcdHeader,
+    bytes: &'a [u8],
+    budget: impl FnOnce(u64) -> KindResult<()>,
+) -> KindResult<Data<'a>> {
     let block = match header.encoding {
         PcdEncoding::Ascii => {
             let available = bytes.len().saturating_sub(header.data_start);
@@ -40,9 +48,12 @@ pub fn prepare<'a>(header: &'a PcdHeader, bytes: &'a [u8]) -> KindResult<Data<'a
                     available,
                 });
             }
+            budget(0)?;
             None
         }
-        PcdEncoding::Binary | PcdEncoding::BinaryCompressed => Some(data_block(header, bytes)?),
+        PcdEncoding::Binary | PcdEncoding::BinaryCompressed => {
+            Some(data_block(header, bytes, budget)?)
+        }
     };
     Ok(Data {
         header,
@@ -78,16 +89,17 @@ fn data_size(header: &PcdHeader) -> KindResult<usize> {
 }
 
 /// The raw data block: borrowed for `binary`, decompressed for `binary_compressed`.
-fn data_block<'a>(header: &PcdHeader, bytes: &'a [u8]) -> KindResult<Cow<'a, [u8]>> {
+fn data_block<'a>(
+    header: &PcdHeader,
+    bytes: &'a [u8],
+    budget: impl FnOnce(u64) -> KindResult<()>,
+) -> KindResult<Cow<'a, [u8]>> {
     let size = data_size(header)?;
     let start = header.data_start;
     if header.encoding == PcdEncoding::Binary {
-        return Ok(Cow::Borrowed(take(
-            bytes,
-            start,
-            size,
-            "binary point data",
-        )?));
+        let block = take(bytes, start, size, "binary point data")?;
+        budget(0)?;
+        return Ok(Cow::Borrowed(block));
     }
     let sizes = take(bytes, start, 8, "compressed block sizes")?;
     let compressed = u32::from_le_bytes([sizes[0], sizes[1], sizes[2], sizes[3]]) as usize;
@@ -100,6 +112,8 @@ fn data_block<'a>(header: &PcdHeader, bytes: &'a [u8]) -> KindResult<Cow<'a, [u8
         )));
     }
     let packed = take(bytes, start + 8, compressed, "LZF compressed data")?;
+    lzf::check_expansion(packed.len(), size)?;
+    budget(size as u64)?;
     Ok(Cow::Owned(lzf::decompress(packed, size)?))
 }
 

@@ -1,0 +1,238 @@
+//! The memory budget of the readers: what an input will cost, estimated from its header
+//! before anything is allocated, and refused past a limit.
+//!
+//! A few kilobytes of PNG or LZF can claim gigabytes of pixels or points, and a text header
+//! can claim any number of fields. Every reader of this crate therefore computes, from the
+//! header alone, the bytes it will allocate and the bytes the polylidar pipeline will need
+//! for the cloud and mesh built from the points ([`Limits::pipeline_bytes_per_point`]), and
+//! returns [`ErrorKind::OverBudget`](crate::ErrorKind::OverBudget) when the sum exceeds
+//! [`Limits::max_memory`]. Files are read with a bound too: a FIFO or `/dev/zero` is read
+//! up to the budget and refused past it, never until memory runs out.
+//!
+//! ```
+//! use polylidar_io::{ErrorKind, Limits, PcdEncoding, PcdWriteOptions, PointCloud, encode_pcd,
+//!     parse_pcd_with};
+//!
+//! let cloud = PointCloud::unorganized(vec![[0.0, 0.0, 1.0]; 1000]);
+//! let bytes = encode_pcd(&cloud, &PcdWriteOptions::new(PcdEncoding::Binary))?;
+//! // 1000 points fit the default budget, not one of 100 kB.
+//! assert!(parse_pcd_with(&bytes, &Limits::default()).is_ok());
+//! let tight = Limits::default().with_max_memory(100_000);
+//! let e = parse_pcd_with(&bytes, &tight).unwrap_err();
+//! assert!(matches!(e.kind, ErrorKind::OverBudget { .. }));
+//! # Ok::<(), polylidar_io::IoError>(())
+//! ```
+
+use std::io::Read;
+use std::path::Path;
+
+use crate::error::{ErrorKind, Format, IoError, KindResult};
+
+/// The cap of the default budget: 2 GiB.
+pub const DEFAULT_MAX_MEMORY: u64 = 2 << 30;
+
+/// What the polylidar pipeline needs per input point, beyond the reader's own arrays: the
+/// point (or organized pixel) as `f64` and `f32` copies, its share of the half-edge mesh
+/// (about two triangles of three half-edges), normals, smoothing buffers, labels and the
+/// Delaunay or right-cut working memory. Measured peak RSS of `polylidar extract` on the
+/// shared fixtures stays under this per point (`docs/bench/hardening.md`).
+pub const PIPELINE_BYTES_PER_POINT: u64 = 400;
+
+/// The memory budget of a read.
+///
+/// [`Limits::default`] allows [`DEFAULT_MAX_MEMORY`] (2 GiB) or half of the machine's
+/// physical memory, whichever is smaller, and counts [`PIPELINE_BYTES_PER_POINT`] for the
+/// pipeline's use of each point; [`Limits::reading_only`] counts the reader's own
+/// allocations alone.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Limits {
+    /// Most bytes a read may plan for: the file's bytes, the decoded arrays, and the
+    /// pipeline's share for every point.
+    pub max_memory: u64,
+    /// Bytes the caller will spend per point after reading (0 when the points are only
+    /// read); a mesh face counts half of it.
+    pub pipeline_bytes_per_point: u64,
+}
+
+impl Default for Limits {
+    fn default() -> Self {
+        Limits {
+            max_memory: default_max_memory(),
+            pipeline_bytes_per_point: PIPELINE_BYTES_PER_POINT,
+        }
+    }
+}
+
+impl Limits {
+    /// No limit at all (for trusted data only).
+    pub const fn unlimited() -> Self {
+        Limits {
+            max_memory: u64::MAX,
+            pipeline_bytes_per_point: 0,
+        }
+    }
+
+    /// The same limits with a budget of `bytes`.
+    #[must_use]
+    pub const fn with_max_memory(mut self, bytes: u64) -> Self {
+        self.max_memory = bytes;
+        self
+    }
+
+    /// The same budget, counting only what the reader itself allocates (no pipeline share).
+    #[must_use]
+    pub const fn reading_only(mut self) -> Self {
+        self.pipeline_bytes_per_point = 0;
+        self
+    }
+
+    /// The pipeline's bytes for `points` points (saturating).
+    pub(crate) fn pipeline(&self, points: u64) -> u64 {
+        points.saturating_mul(self.pipeline_bytes_per_point)
+    }
+
+    /// `Ok` when `estimate` fits the budget, else [`ErrorKind::OverBudget`] explaining
+    /// `what` the estimate is made of.
+    pub(crate) fn check(&self, estimate: u64, what: impl FnOnce() -> String) -> KindResult<()> {
+        if estimate > self.max_memory {
+            return Err(ErrorKind::OverBudget {
+                what: what(),
+                estimate,
+                limit: self.max_memory,
+            });
+        }
+        Ok(())
+    }
+
+    /// Reads the file at `path` whole, refusing a regular file larger than the budget
+    /// before reading it, and any stream (FIFO, device) as soon as it passes the budget.
+    pub(crate) fn read_file(&self, path: &Path, format: Format) -> Result<Vec<u8>, IoError> {
+        let fail = |k: ErrorKind| IoError::new(format, k).at(path);
+        let file = std::fs::File::open(path).map_err(|e| fail(ErrorKind::Os(e)))?;
+        let meta = file.metadata().map_err(|e| fail(ErrorKind::Os(e)))?;
+        let too_big = |size: String| {
+            fail(ErrorKind::OverBudget {
+                what: format!("holding the file's bytes ({size})"),
+                estimate: self.max_memory.saturating_add(1),
+                limit: self.max_memory,
+            })
+        };
+        if meta.is_file() && meta.len() > self.max_memory {
+            return Err(too_big(format!("{} bytes", meta.len())));
+        }
+        let expected = if meta.is_file() { meta.len() } else { 0 };
+        let mut bytes = Vec::with_capacity(usize::try_from(expected).unwrap_or(0));
+        file.take(self.max_memory.saturating_add(1))
+            .read_to_end(&mut bytes)
+            .map_err(|e| fail(ErrorKind::Os(e)))?;
+        if bytes.len() as u64 > self.max_memory {
+            return Err(too_big("a stream that does not end within it".to_owned()));
+        }
+        Ok(bytes)
+    }
+}
+
+/// The default budget: [`DEFAULT_MAX_MEMORY`] or half of [`physical_memory`], whichever is
+/// smaller.
+pub fn default_max_memory() -> u64 {
+    physical_memory().map_or(DEFAULT_MAX_MEMORY, |total| {
+        DEFAULT_MAX_MEMORY.min(total / 2)
+    })
+}
+
+/// The machine's physical memory in bytes (`MemTotal` of `/proc/meminfo`), or `None`
+/// where that is not available.
+pub fn physical_memory() -> Option<u64> {
+    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = text.lines().find(|l| l.starts_with("MemTotal:"))?;
+    let kib: u64 = line.split_ascii_whitespace().nth(1)?.parse().ok()?;
+    kib.checked_mul(1024)
+}
+
+/// Parses a memory size: a number of bytes with an optional unit `K`, `M`, `G`, `T`
+/// (powers of 1024; `KiB`, `MB`, `GB`… read the same, case-insensitive), e.g. `512M`,
+/// `1.5G`, `2GiB`, `1000000`.
+///
+/// ```
+/// assert_eq!(polylidar_io::parse_memory_size("512M"), Ok(512 << 20));
+/// assert_eq!(polylidar_io::parse_memory_size("1.5 GiB"), Ok(3 << 29));
+/// assert!(polylidar_io::parse_memory_size("lots").is_err());
+/// ```
+///
+/// # Errors
+/// A message naming the text when it is no size.
+pub fn parse_memory_size(text: &str) -> Result<u64, String> {
+    let t = text.trim();
+    let split = t
+        .find(|c: char| !(c.is_ascii_digit() || c == '.'))
+        .unwrap_or(t.len());
+    let (number, unit) = t.split_at(split);
+    let bad = || format!("{text:?} is not a memory size (e.g. 512M, 2G, 1000000)");
+    let value: f64 = number.parse().map_err(|_| bad())?;
+    let shift = match unit.trim().to_ascii_lowercase().as_str() {
+        "" | "b" => 0,
+        "k" | "kb" | "kib" => 10,
+        "m" | "mb" | "mib" => 20,
+        "g" | "gb" | "gib" => 30,
+        "t" | "tb" | "tib" => 40,
+        _ => return Err(bad()),
+    };
+    let bytes = value * (1u64 << shift) as f64;
+    if !bytes.is_finite() || bytes < 1.0 || bytes >= u64::MAX as f64 {
+        return Err(format!("{text:?} is out of range: at least 1 byte"));
+    }
+    Ok(bytes as u64)
+}
+
+/// `bytes` in the largest binary unit that keeps one digit before the point: `1.6 GiB`.
+pub fn format_bytes(bytes: u64) -> String {
+    const UNITS: [&str; 5] = ["B", "KiB", "MiB", "GiB", "TiB"];
+    let mut value = bytes as f64;
+    let mut unit = 0;
+    while value >= 1024.0 && unit + 1 < UNITS.len() {
+        value /= 1024.0;
+        unit += 1;
+    }
+    if unit == 0 {
+        format!("{bytes} B")
+    } else {
+        format!("{value:.1} {}", UNITS[unit])
+    }
+}
+
+/// `a × b` bytes, saturating.
+pub(crate) fn times(a: usize, b: u64) -> u64 {
+    (a as u64).saturating_mul(b)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sizes_parse_and_print() {
+        assert_eq!(parse_memory_size("1000"), Ok(1000));
+        assert_eq!(parse_memory_size("2g"), Ok(2 << 30));
+        assert_eq!(parse_memory_size("64 MiB"), Ok(64 << 20));
+        assert_eq!(parse_memory_size("4k"), Ok(4096));
+        assert!(parse_memory_size("0").is_err());
+        assert!(parse_memory_size("-5M").is_err());
+        assert!(parse_memory_size("5X").is_err());
+        assert!(parse_memory_size("").is_err());
+        assert_eq!(format_bytes(512), "512 B");
+        assert_eq!(format_bytes(3 << 29), "1.5 GiB");
+    }
+
+    #[test]
+    fn default_is_capped() {
+        let d = Limits::default();
+        assert!(d.max_memory <= DEFAULT_MAX_MEMORY);
+        assert!(d.max_memory > 0);
+        assert_eq!(d.pipeline_bytes_per_point, PIPELINE_BYTES_PER_POINT);
+        assert!(d.check(d.max_memory, String::new).is_ok());
+        assert!(matches!(
+            d.check(d.max_memory + 1, || "x".to_owned()),
+            Err(ErrorKind::OverBudget { .. })
+        ));
+    }
+}
