@@ -113,6 +113,14 @@ pub enum ErrorKind {
         /// Number of vertices available.
         vertices: usize,
     },
+    /// A value of a binary record cannot be what the format says it is.
+    #[error("byte {offset}: {reason}")]
+    Value {
+        /// Byte offset of the value in the file.
+        offset: usize,
+        /// What is wrong with it.
+        reason: String,
+    },
     /// Compressed data is corrupt.
     #[error("corrupt compressed data: {0}")]
     Corrupt(String),
@@ -147,6 +155,22 @@ pub enum ErrorKind {
     /// The data is valid for its format but not usable as the requested input.
     #[error("{0}")]
     Unusable(String),
+    /// Reading the input (and running the pipeline on it) would need more memory than the
+    /// budget of [`crate::Limits`] allows; nothing of that size was allocated.
+    #[error(
+        "needs about {} for {what}, more than the memory budget of {}; if the file is \
+         genuine, raise the budget (polylidar --max-memory, or Limits::with_max_memory)",
+        crate::limits::format_bytes(*.estimate),
+        crate::limits::format_bytes(*.limit)
+    )]
+    OverBudget {
+        /// What the estimate is made of (sizes from the header).
+        what: String,
+        /// Bytes estimated.
+        estimate: u64,
+        /// The budget, [`crate::Limits::max_memory`].
+        limit: u64,
+    },
 }
 
 /// An error from any reader or writer of this crate: the file (if any), the format and the
@@ -191,9 +215,10 @@ impl IoError {
 /// Result of the format-internal parsers before the file and format are attached.
 pub(crate) type KindResult<T> = Result<T, ErrorKind>;
 
-/// Reads the whole file at `path`, attributing a failure to `format`.
+/// Reads the whole file at `path` within the default [`crate::Limits`], attributing a
+/// failure to `format`.
 pub(crate) fn read_file(path: &Path, format: Format) -> Result<Vec<u8>, IoError> {
-    std::fs::read(path).map_err(|e| IoError::new(format, ErrorKind::Os(e)).at(path))
+    crate::Limits::default().read_file(path, format)
 }
 
 /// Writes `bytes` to `path`, attributing a failure to `format`.

@@ -18,10 +18,17 @@
 //! has a `parse_*` twin working on bytes in memory. Organized clouds keep their grid
 //! ([`PointCloud`] with `rows > 1`, NaN marking invalid pixels).
 //!
+//! Every reader works within a memory budget ([`Limits`]; the plain functions use
+//! [`Limits::default`], the `*_with` ones take it): what a file will cost, the reader's
+//! arrays and the pipeline's share per point, is estimated from its header and refused past
+//! the budget before anything is allocated; files and streams are read up to the budget
+//! and no further.
+//!
 //! Errors ([`IoError`]) name the file, the format and the problem (the header line, the data
 //! line, the byte offset of truncated data, the face with a bad index). No input makes a
-//! reader panic: every parser is fed random and corrupted bytes by the property tests, and
-//! sizes claimed by headers are checked against the data before anything is allocated.
+//! reader panic: every parser is fed random and corrupted bytes by the property tests and
+//! the fuzz targets of `fuzz/`, and sizes claimed by headers are checked against the data
+//! before anything is allocated.
 //!
 //! Feature `opc-mesh` (off by default) converts [`CameraIntrinsics`] into the pipeline's
 //! camera model, `opc_mesh::Intrinsics` and `opc_mesh::DepthOptions`.
@@ -53,6 +60,7 @@ mod depth;
 mod error;
 mod kitti;
 mod lidar;
+mod limits;
 pub mod lzf;
 mod npy;
 mod obj;
@@ -60,37 +68,51 @@ mod pcd;
 mod ply;
 mod units;
 
-pub use auto::{InputKind, format_of, read_input};
+pub use auto::{InputKind, ReadNotes, format_of, read_input, read_input_with};
 pub use cloud::{LasCloud, MeshData, MeshStats, PointCloud, PointTable};
 mod intrinsics;
 pub use color::{
-    ColorImage, color_path_for, parse_color_image, parse_pcd_colors, read_color_image,
-    read_pcd_colors,
+    ColorImage, color_path_for, parse_color_image, parse_color_image_with, parse_pcd_colors,
+    read_color_image, read_color_image_with, read_pcd_colors,
 };
-pub use colorized::{ColorizedDepth, parse_colorized_depth_png, read_colorized_depth_png};
-pub use csv::{parse_csv_points, read_csv_points};
+pub use colorized::{
+    ColorizedDepth, parse_colorized_depth_png, parse_colorized_depth_png_with,
+    read_colorized_depth_png, read_colorized_depth_png_with,
+};
+pub use csv::{parse_csv_points, parse_csv_points_with, read_csv_points, read_csv_points_with};
 pub use depth::{
     CameraIntrinsics, DepthImage, encode_depth_png, metadata_path_for, parse_depth_png,
-    parse_realsense_intrinsics, read_depth_png, read_realsense_intrinsics, write_depth_png,
+    parse_depth_png_with, parse_realsense_intrinsics, read_depth_png, read_depth_png_with,
+    read_realsense_intrinsics, write_depth_png,
 };
 pub use error::{ErrorKind, Format, IoError};
 pub use kitti::{
-    KITTI_RECORD_BYTES, KittiScan, encode_kitti_bin, parse_kitti_bin, read_kitti_bin,
-    write_kitti_bin,
+    KITTI_RECORD_BYTES, KittiScan, encode_kitti_bin, parse_kitti_bin, parse_kitti_bin_with,
+    read_kitti_bin, read_kitti_bin_with, write_kitti_bin,
 };
-pub use lidar::{parse_las, read_las, read_las_unit};
+pub use lidar::{parse_las, parse_las_with, read_las, read_las_unit, read_las_with};
+pub use limits::{
+    DEFAULT_MAX_MEMORY, Limits, PIPELINE_BYTES_PER_POINT, default_max_memory, format_bytes,
+    parse_memory_size, physical_memory,
+};
 pub use npy::{
-    Dtype, NpyArray, encode_npy_f32, encode_npy_f64, encode_npy_i32, parse_npy, read_npy,
-    write_npy_f32, write_npy_f64, write_npy_i32,
+    Dtype, NpyArray, encode_npy_f32, encode_npy_f64, encode_npy_i32, parse_npy, parse_npy_with,
+    read_npy, read_npy_with, write_npy_f32, write_npy_f64, write_npy_i32,
 };
-pub use obj::{parse_obj, parse_obj_with_stats, read_obj, read_obj_with_stats};
+pub use obj::{
+    parse_obj, parse_obj_with, parse_obj_with_stats, read_obj, read_obj_with,
+    read_obj_with_stats,
+};
 pub use pcd::{
     PcdColumns, PcdEncoding, PcdField, PcdHeader, PcdScalar, PcdWriteOptions, ScalarType,
-    encode_pcd, parse_pcd, parse_pcd_fields, parse_pcd_header, read_pcd, read_pcd_fields,
-    write_pcd, write_pcd_with_options,
+    encode_pcd, parse_pcd, parse_pcd_fields, parse_pcd_fields_with, parse_pcd_header,
+    parse_pcd_with, read_pcd, read_pcd_fields, read_pcd_fields_with, read_pcd_with, write_pcd,
+    write_pcd_with_options,
 };
 pub use ply::{
-pub use intrinsics::{parse_open3d_camera, read_camera_file, read_open3d_camera};
+    encode_ply, parse_ply, parse_ply_colors, parse_ply_with, parse_ply_with_stats, read_ply,
+    read_ply_colors, read_ply_with, read_ply_with_stats, write_ply,
+};
     encode_ply, parse_ply, parse_ply_colors, parse_ply_with_stats, read_ply, read_ply_colors,
     read_ply_with_stats, write_ply,
 };
