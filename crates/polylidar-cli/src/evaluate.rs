@@ -58,6 +58,7 @@ pub fn evaluate(args: &EvaluateArgs) -> Result<(), CliError> {
         args.input.input.as_deref(),
         args.input.demo,
         args.input.stride as usize,
+        args.input.max_memory,
     )?;
     let Some((rows, cols)) = input.grid() else {
         return Err(CliError::Unsupported {

@@ -4,6 +4,7 @@ use std::path::{Path, PathBuf};
 
 use polylidar::OrganizedPointCloud;
 pub use polylidar::io::Input;
+use polylidar::io::Limits;
 
 use crate::args::Demo;
 use crate::run::CliError;
@@ -24,17 +25,37 @@ pub struct Loaded {
 }
 
 /// Loads `path`, or the demo, with organized input (and its ground truth) downsampled by
-/// `stride`.
+/// `stride`, within `max_memory` bytes (`--max-memory`; default: [`Limits::default`]).
+/// Invalid (NaN) points skipped from an unorganized cloud are reported on stderr.
 ///
 /// # Errors
-/// Unreadable input, or `stride > 1` for input that is not organized.
-pub fn load(path: Option<&Path>, demo: Option<Demo>, stride: usize) -> Result<Loaded, CliError> {
+/// Unreadable input, an input past the memory budget, or `stride > 1` for input that is
+/// not organized.
+pub fn load(
+    path: Option<&Path>,
+    demo: Option<Demo>,
+    stride: usize,
+    max_memory: Option<u64>,
+) -> Result<Loaded, CliError> {
     let mut loaded = match (path, demo) {
-        (Some(path), _) => Loaded {
-            input: Input::read(path)?,
-            source: path.display().to_string(),
-            truth: None,
-        },
+        (Some(path), _) => {
+            let limits = max_memory.map_or_else(Limits::default, |bytes| {
+                Limits::default().with_max_memory(bytes)
+            });
+            let (input, notes) = Input::read_with(path, &limits)?;
+            if notes.invalid_skipped > 0 {
+                eprintln!(
+                    "note: {}: {} skipped (a NaN coordinate marks an invalid point)",
+                    path.display(),
+                    crate::report::count(notes.invalid_skipped, "invalid point", "invalid points")
+                );
+            }
+            Loaded {
+                input,
+                source: path.display().to_string(),
+                truth: None,
+            }
+        }
         (None, Some(Demo::Shape)) => Loaded {
             input: demo_shape()?,
             source: "built-in demo: shape".to_owned(),

@@ -195,7 +195,7 @@ fn load_input(
 ) -> Result<(Loaded, Frame), CliError> {
     let depth_png = path.filter(|p| polylidar_io::format_of(p) == Some(Format::DepthPng));
     let (Some(png), Some(camera_file)) = (depth_png, args.intrinsics.as_deref()) else {
-        let loaded = load(path, args.input.demo, stride)?;
+        let loaded = load(path, args.input.demo, stride, args.input.max_memory)?;
         let camera = match (depth_png, &loaded.input) {
             (Some(png), Input::Organized(cloud)) => {
                 let k =

@@ -103,7 +103,12 @@ fn extract(args: &ExtractArgs) -> Result<Outcome, CliError> {
         input,
         source,
         truth,
-    } = load(args.input.input.as_deref(), args.input.demo, stride)?;
+    } = load(
+        args.input.input.as_deref(),
+        args.input.demo,
+        stride,
+        args.input.max_memory,
+    )?;
     let header_unit = match args.input.input.as_deref() {
         Some(path) if polylidar_io::format_of(path) == Some(polylidar_io::Format::Las) => {
             polylidar_io::read_las_unit(path)?

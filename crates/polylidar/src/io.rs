@@ -22,6 +22,7 @@
 use std::path::Path;
 
 use polylidar_io::InputKind;
+pub use polylidar_io::{Limits, ReadNotes};
 
 mod camera;
 pub use camera::{CameraSource, DEFAULT_UNITS_PER_METRE, DepthCamera, is_missing_intrinsics};
@@ -62,6 +63,35 @@ impl Input {
     /// grid or depth image that does not make an organized cloud.
     pub fn read(path: impl AsRef<Path>) -> Result<Self, PolylidarError> {
         Self::from_io(polylidar_io::read_input(path)?)
+    }
+
+    /// As [`Self::read`], within the memory budget `limits` (what the file and the pipeline
+    /// run on it will need is estimated from the header and refused past the budget before
+    /// anything is allocated), with what the read met: points of an unorganized PCD cloud
+    /// with a NaN coordinate (PCL's invalid-point marker) are skipped and counted.
+    ///
+    /// ```
+    /// use polylidar::io::{Input, Limits};
+    ///
+    /// let path = std::env::temp_dir().join("polylidar-doc-read-with.csv");
+    /// std::fs::write(&path, "x,y\n0,0\n1,0\n0,1\n")?;
+    /// let (input, notes) = Input::read_with(&path, &Limits::default())?;
+    /// assert_eq!((input.len(), notes.invalid_skipped), (3, 0));
+    /// let tight = Limits::default().with_max_memory(1000);
+    /// assert!(Input::read_with(&path, &tight).is_err());
+    /// # std::fs::remove_file(&path).ok();
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    ///
+    /// # Errors
+    /// As [`Self::read`]; [`PolylidarError::Io`] with
+    /// [`polylidar_io::ErrorKind::OverBudget`] past `limits`.
+    pub fn read_with(
+        path: impl AsRef<Path>,
+        limits: &Limits,
+    ) -> Result<(Self, ReadNotes), PolylidarError> {
+        let (kind, notes) = polylidar_io::read_input_with(path, limits)?;
+        Ok((Self::from_io(kind)?, notes))
     }
 
     /// The input of what a [`polylidar_io`] reader returned.
