@@ -221,9 +221,11 @@ pub(crate) fn read_file(path: &Path, format: Format) -> Result<Vec<u8>, IoError>
     crate::Limits::default().read_file(path, format)
 }
 
-/// Writes `bytes` to `path`, attributing a failure to `format`.
+/// Writes `bytes` to `path` atomically ([`crate::atomic::write_atomic`]: a failed write
+/// leaves the old file as it was), attributing a failure to `format`.
 pub(crate) fn write_file(path: &Path, format: Format, bytes: &[u8]) -> Result<(), IoError> {
-    std::fs::write(path, bytes).map_err(|e| IoError::new(format, ErrorKind::Os(e)).at(path))
+    crate::atomic::write_atomic(path, bytes)
+        .map_err(|e| IoError::new(format, ErrorKind::Os(e)).at(path))
 }
 
 /// Little helper for truncation checks: `bytes[offset..offset + needed]` or an error.

@@ -30,6 +30,9 @@
 //! the fuzz targets of `fuzz/`, and sizes claimed by headers are checked against the data
 //! before anything is allocated.
 //!
+//! Every writer replaces its file atomically ([`atomic`]): a failed write leaves the old
+//! file as it was and no temporary file behind.
+//!
 //! Feature `opc-mesh` (off by default) converts [`CameraIntrinsics`] into the pipeline's
 //! camera model, `opc_mesh::Intrinsics` and `opc_mesh::DepthOptions`.
 //!
@@ -51,6 +54,7 @@
 #![forbid(unsafe_code)]
 #![deny(rustdoc::broken_intra_doc_links)]
 
+pub mod atomic;
 mod auto;
 mod cloud;
 mod color;

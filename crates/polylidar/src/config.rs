@@ -1,7 +1,7 @@
 //! Pipeline parameters, with units and defaults, loadable from TOML.
 
 use fastga::FastGaConfig;
-use mesh_smooth_gpu::{Backend, BilateralOptions, LaplacianOptions};
+use mesh_smooth_gpu::{Backend, BilateralOptions, LaplacianOptions, SmoothError};
 use opc_mesh::FillOptions;
 use planeseg::SegmentationConfig;
 use polypost::PostprocessConfig;
@@ -47,8 +47,9 @@ pub struct Config {
     /// 3D: maximum distance from a triangle's centroid to its segment's plane (the
     /// paper's ptp_max); `0` disables the test. Length unit.
     pub z_thresh: f64,
-    /// Worker threads; `0` uses rayon's default (one per core). Results are identical
-    /// whatever the count.
+    /// Worker threads; `0` uses rayon's default (one per core). At most [`max_threads`]
+    /// ([`MAX_THREADS_PER_CORE`] per core of the machine). Results are identical whatever
+    /// the count.
     pub threads: usize,
     /// Organized clouds: Laplacian vertex smoothing before meshing; absent = off.
     pub laplacian: Option<LaplacianConfig>,
@@ -72,6 +73,11 @@ pub struct Config {
     /// beam outliers, optionally the range image; see [`ScanSection`] and
     /// [`crate::Polylidar::extract_scan`]); absent = the points are taken as given.
     pub scan: Option<ScanSection>,
+    /// Unorganized clouds: take the 3D path, planes in every direction (normals, dominant
+    /// directions, a triangulation per direction; see
+    /// [`crate::Polylidar::extract_unorganized`] and [`crate::UnorganizedSection`]);
+    /// absent = the 2.5D path along [`Config::up`].
+    pub unorganized: Option<crate::UnorganizedSection>,
 }
 
 /// When an organized cloud's missing pixel is filled ([`Config::fill_missing`]): from at
@@ -107,15 +113,35 @@ impl FillConfig {
     }
 }
 
+/// Most worker threads per core: [`Config::threads`] is at most this many times the
+/// machine's cores ([`max_threads`]). More threads than cores only add start-up time and
+/// memory; tens of thousands can exhaust the process table.
+pub const MAX_THREADS_PER_CORE: usize = 4;
+
+/// The largest [`Config::threads`] accepted on this machine: [`MAX_THREADS_PER_CORE`]
+/// times [`std::thread::available_parallelism`] (1 core when it is unknown).
+///
+/// ```
+/// use polylidar::{Config, Polylidar, max_threads};
+/// assert!(max_threads() >= polylidar::MAX_THREADS_PER_CORE);
+/// assert!(Polylidar::new(Config::new().with_threads(max_threads())).is_ok());
+/// assert!(Polylidar::new(Config::new().with_threads(max_threads() + 1)).is_err());
+/// ```
+pub fn max_threads() -> usize {
+    MAX_THREADS_PER_CORE * std::thread::available_parallelism().map_or(1, |n| n.get())
+}
+
 /// Laplacian vertex filter parameters (Polylidar3D Eq. 1–2).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct LaplacianConfig {
-    /// Odd pixel neighbourhood side (3, 5, …).
+    /// Odd pixel neighbourhood side, 3 to [`mesh_smooth_gpu::MAX_KERNEL`] (15).
     pub kernel: u32,
-    /// Step towards the weighted neighbour mean (0 keeps, 1 moves to the mean).
+    /// Step towards the weighted neighbour mean, in (0, 1] (1 moves to the mean; larger
+    /// steps overshoot and negative ones roughen the surface).
     pub lambda: f32,
-    /// Passes: a count (`iterations = 8`; 0 skips the filter), or `"auto"` to predict it
+    /// Passes: a count up to [`mesh_smooth_gpu::MAX_ITERATIONS`] (1000; `iterations = 8`;
+    /// 0 skips the filter), or `"auto"` to predict it
     /// per cloud from its estimated noise ([`crate::estimate_noise`] through the trained
     /// linear model of [`crate::predict_laplacian_iterations`]).
     pub iterations: LaplacianIterations,
@@ -257,13 +283,13 @@ impl<'de> Deserialize<'de> for LaplacianIterations {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct BilateralConfig {
-    /// Odd cell neighbourhood side.
+    /// Odd cell neighbourhood side, 3 to [`mesh_smooth_gpu::MAX_KERNEL`] (15).
     pub kernel: u32,
-    /// σ_l: spatial scale between triangle centroids. Length unit.
+    /// σ_l: spatial scale between triangle centroids, finite and > 0. Length unit.
     pub sigma_length: f32,
-    /// σ_a: scale of the Euclidean distance between unit normals.
+    /// σ_a: scale of the Euclidean distance between unit normals, finite and > 0.
     pub sigma_angle: f32,
-    /// Passes.
+    /// Passes, 0 to [`mesh_smooth_gpu::MAX_ITERATIONS`] (1000).
     pub iterations: u32,
     /// Where to run.
     pub backend: SmoothingBackend,
@@ -334,15 +360,17 @@ impl From<Backend> for SmoothingBackend {
 pub struct FastGaSection {
     /// Icosahedron refinement level (0–7).
     pub level: u32,
-    /// Fraction of the triangle normals integrated, in (0, 1].
+    /// Fraction of the triangle normals integrated, in (0, 1] (raised for small meshes
+    /// so that at least `min_samples` are integrated).
     pub sample_fraction: f64,
     /// At least this many normals are integrated (when the mesh has them).
     pub min_samples: usize,
-    /// Smallest peak on the 0–255 image scale (the paper's v_min).
+    /// Smallest peak on the 0–255 image scale (the paper's v_min), in [0, 255].
     pub value_threshold: f64,
-    /// Peaks closer than this (Euclidean, unit normals) merge (the paper's d_peak).
+    /// Peaks closer than this (Euclidean, unit normals) merge (the paper's d_peak), in
+    /// [0, 2].
     pub cluster_distance: f64,
-    /// Clusters lighter than this normalised weight are dropped.
+    /// Clusters lighter than this normalised weight are dropped; finite and ≥ 0.
     pub min_cluster_weight: f64,
 }
 
@@ -367,16 +395,30 @@ impl FastGaSection {
     /// fraction is raised so that at least `min_samples` normals are integrated.
     pub fn config_for(&self, normals: usize) -> FastGaConfig {
         let floor = self.min_samples as f64 / normals.max(1) as f64;
+        self.config(self.sample_fraction.max(floor).min(1.0))
+    }
+
+    /// Checks every field with FastGA's own rules ([`FastGaConfig::validate`]), the sample
+    /// fraction as given (before [`Self::config_for`] raises it).
+    ///
+    /// # Errors
+    /// The first out-of-range field, as FastGA names it.
+    pub fn validate(&self) -> Result<(), fastga::FastGaError> {
+        self.config(self.sample_fraction).validate()
+    }
+
+    fn config(&self, sample_fraction: f64) -> FastGaConfig {
         FastGaConfig::default()
             .with_level(self.level)
-            .with_sample_fraction(self.sample_fraction.max(floor).min(1.0))
+            .with_sample_fraction(sample_fraction)
             .with_value_threshold(self.value_threshold)
             .with_cluster_distance(self.cluster_distance)
             .with_min_cluster_weight(self.min_cluster_weight)
     }
 }
 
-/// Polygon post-processing parameters (Polylidar3D §8), in the polygons' length unit.
+/// Polygon post-processing parameters (Polylidar3D §8), in the polygons' length unit;
+/// each finite and ≥ 0.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct PostprocessSection {
@@ -405,7 +447,7 @@ impl PostprocessSection {
 }
 
 /// Names accepted by [`Config::preset`].
-pub const PRESETS: [&str; 9] = [
+pub const PRESETS: [&str; 11] = [
     "rgbd",
     "synpeb",
     "synpeb-auto",
@@ -415,6 +457,8 @@ pub const PRESETS: [&str; 9] = [
     "kitti-range",
     "mesh-basement",
     "mesh-mainfloor",
+    "room",
+    "aerial",
 ];
 
 impl Default for Config {
@@ -436,6 +480,7 @@ impl Default for Config {
             refine: false,
             fill_missing: None,
             scan: None,
+            unorganized: None,
         }
     }
 }
@@ -582,6 +627,13 @@ impl Config {
     ///   d_peak 0.1, 12 %; min_triangles 80 / 1000, norm 0.95, lmax 0.1, z 0.08, hole
     ///   vertices 6; post α 0.01 / 0.02, β_neg 0.025 / 0.05, β_pos 0 / 0.02, γ 0.07 / 0.25,
     ///   δ 0.05 / 0.1.
+    /// * `room` (ours): unorganized indoor clouds — scans with the grid dropped, merged
+    ///   views, SLAM maps — on the unorganized 3D path ([`Config::unorganized`], its
+    ///   defaults): FastGA level 4, v_min 5, d_peak 0.15, weight 0.01; lmax 0.1,
+    ///   min_triangles 250, z 0.07, norm 0.95, hole vertices 10.
+    /// * `aerial` (ours): airborne LiDAR on the unorganized 3D path, for pitched roofs and
+    ///   façades as well as flat roofs and the ground: FastGA as `room`; lmax 3,
+    ///   min_triangles 60, z 0.3, norm 0.94, hole vertices 8.
     pub fn preset(name: &str) -> Option<Self> {
         let base = Self::default();
         let post = |alpha, beta_neg, beta_pos, min_area, min_hole_area| {
@@ -710,14 +762,53 @@ impl Config {
                     ..base
                 }
             }
+            "room" => Self {
+                fastga: FastGaSection {
+                    min_cluster_weight: 0.01,
+                    ..fastga(4, 5.0, 0.15)
+                },
+                lmax: 0.1,
+                min_triangles: 250,
+                z_thresh: 0.07,
+                norm_thresh: 0.95,
+                min_hole_vertices: 10,
+                unorganized: Some(crate::UnorganizedSection::default()),
+                ..base
+            },
+            "aerial" => Self {
+                fastga: FastGaSection {
+                    min_cluster_weight: 0.01,
+                    ..fastga(4, 5.0, 0.15)
+                },
+                lmax: 3.0,
+                min_triangles: 60,
+                z_thresh: 0.3,
+                norm_thresh: 0.94,
+                min_hole_vertices: 8,
+                unorganized: Some(crate::UnorganizedSection::default()),
+                ..base
+            },
             _ => return None,
         })
     }
 
-    /// Checks every field's range.
+    /// Checks every field's range, with the rules of the stage each field goes to (the
+    /// segmentation's, the smoothing filters', FastGA's, the post-processor's) plus those
+    /// of the fields only this crate reads. [`crate::Polylidar::new`] calls it, so a bad
+    /// value is refused before any input is read.
+    ///
+    /// ```
+    /// use polylidar::{Config, LaplacianConfig, PolylidarError};
+    /// let steep = LaplacianConfig { lambda: 2.0, ..LaplacianConfig::default() };
+    /// let err = Config::new().with_laplacian(Some(steep)).validate().unwrap_err();
+    /// assert!(matches!(err, PolylidarError::Config { field: "laplacian.lambda", .. }));
+    /// ```
     ///
     /// # Errors
-    /// [`PolylidarError::Config`] naming the first bad field.
+    /// [`PolylidarError::Config`] naming the first bad field (FastGA and post-processing
+    /// fields: [`PolylidarError::FastGa`] and [`PolylidarError::Postprocess`], which name
+    /// the field too); [`PolylidarError::ThreadPool`] for more threads than
+    /// [`max_threads`].
     pub fn validate(&self) -> Result<(), PolylidarError> {
         let bad = |field, value: String, reason| {
             Err(PolylidarError::Config {
@@ -733,31 +824,49 @@ impl Config {
                 "must be a finite length ≥ 0",
             );
         }
-        if !(self.lmax.is_finite() && self.lmax >= 0.0) {
-            return bad("lmax", self.lmax.to_string(), "must be a finite length ≥ 0");
+        self.segmentation().validate().map_err(|e| match e {
+            planeseg::SegmentError::Config {
+                field,
+                value,
+                reason,
+            } => PolylidarError::Config {
+                field,
+                value: value.to_string(),
+                reason,
+            },
+            other => PolylidarError::Segment(other),
+        })?;
+        let limit = max_threads();
+        if self.threads > limit {
+            return Err(PolylidarError::ThreadPool {
+                threads: self.threads,
+                message: format!(
+                    "at most {limit} are allowed ({MAX_THREADS_PER_CORE} per core of this \
+                     machine); 0 starts one per core"
+                ),
+            });
         }
-        if !(-1.0..=1.0).contains(&self.norm_thresh) {
-            return bad(
-                "norm_thresh",
-                self.norm_thresh.to_string(),
-                "must be a cosine in [-1, 1]",
-            );
+        if let Some(l) = &self.laplacian {
+            if !(0.0..=MAX_RANGE_EXPONENT).contains(&l.range_exponent) {
+                return bad(
+                    "laplacian.range_exponent",
+                    l.range_exponent.to_string(),
+                    "must be in [0, 4]",
+                );
+            }
+            let iterations = l.iterations.fixed().unwrap_or(1);
+            l.options(iterations)
+                .validate()
+                .map_err(|e| smoothing_error("laplacian", e))?;
         }
-        if !(self.min_area.is_finite() && self.min_area >= 0.0) {
-            return bad(
-                "min_area",
-                self.min_area.to_string(),
-                "must be a finite area ≥ 0",
-            );
+        if let Some(b) = &self.bilateral {
+            b.options()
+                .validate()
+                .map_err(|e| smoothing_error("bilateral", e))?;
         }
-        if let Some(l) = &self.laplacian
-            && !(0.0..=MAX_RANGE_EXPONENT).contains(&l.range_exponent)
-        {
-            return bad(
-                "laplacian.range_exponent",
-                l.range_exponent.to_string(),
-                "must be in [0, 4]",
-            );
+        self.fastga.validate()?;
+        if let Some(p) = &self.postprocess {
+            p.config().validate()?;
         }
         if let Some(f) = &self.fill_missing {
             if !(1..=8).contains(&f.min_neighbours) {
@@ -775,15 +884,11 @@ impl Config {
                 );
             }
         }
-        if !(self.z_thresh.is_finite() && self.z_thresh >= 0.0) {
-            return bad(
-                "z_thresh",
-                self.z_thresh.to_string(),
-                "must be a finite length ≥ 0",
-            );
-        }
         if let Some(scan) = &self.scan {
             scan.validate()?;
+        }
+        if let Some(unorganized) = &self.unorganized {
+            unorganized.validate()?;
         }
         let up_len2: f64 = self.up.iter().map(|c| c * c).sum();
         if !(up_len2.is_finite() && up_len2 > 0.0) {
@@ -794,5 +899,192 @@ impl Config {
             );
         }
         Ok(())
+    }
+}
+
+/// A smoothing filter's option error as a [`PolylidarError::Config`] naming the TOML
+/// field (`laplacian.kernel`, `bilateral.sigma_angle`, …).
+fn smoothing_error(section: &'static str, error: SmoothError) -> PolylidarError {
+    let field = |name: &str| -> &'static str {
+        match (section, name) {
+            ("laplacian", "kernel") => "laplacian.kernel",
+            ("laplacian", "lambda") => "laplacian.lambda",
+            ("laplacian", "iterations") => "laplacian.iterations",
+            ("laplacian", _) => "laplacian",
+            ("bilateral", "kernel") => "bilateral.kernel",
+            ("bilateral", "sigma_length") => "bilateral.sigma_length",
+            ("bilateral", "sigma_angle") => "bilateral.sigma_angle",
+            ("bilateral", "iterations") => "bilateral.iterations",
+            _ => "bilateral",
+        }
+    };
+    match error {
+        SmoothError::InvalidKernel { kernel } => PolylidarError::Config {
+            field: field("kernel"),
+            value: kernel.to_string(),
+            reason: "must be odd, from 3 to 15",
+        },
+        SmoothError::InvalidParameter {
+            name,
+            value,
+            reason,
+        } => PolylidarError::Config {
+            field: field(name),
+            value: value.to_string(),
+            reason,
+        },
+        other => PolylidarError::Smooth(other),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The field a config error names (or the stage error's text), for every rule.
+    fn refused(config: Config) -> String {
+        match config.validate() {
+            Err(PolylidarError::Config { field, .. }) => field.to_owned(),
+            Err(other) => other.to_string(),
+            Ok(()) => "accepted".to_owned(),
+        }
+    }
+
+    fn laplacian(l: LaplacianConfig) -> Config {
+        Config::new().with_laplacian(Some(l))
+    }
+
+    fn bilateral(b: BilateralConfig) -> Config {
+        Config::new().with_bilateral(Some(b))
+    }
+
+    #[test]
+    fn every_preset_is_valid() {
+        for name in PRESETS {
+            let config = Config::preset(name).unwrap();
+            assert_eq!(config.validate().ok(), Some(()), "{name}");
+        }
+    }
+
+    #[test]
+    fn laplacian_lambda_is_a_step_in_zero_to_one() {
+        for lambda in [0.0, -1.0, 2.0, 10.0, 1e30, -1e30, f32::NAN] {
+            let config = laplacian(LaplacianConfig {
+                lambda,
+                ..LaplacianConfig::default()
+            });
+            assert_eq!(refused(config), "laplacian.lambda", "{lambda}");
+        }
+        let half = laplacian(LaplacianConfig {
+            lambda: 0.5,
+            ..LaplacianConfig::default()
+        });
+        assert_eq!(refused(half), "accepted");
+    }
+
+    #[test]
+    fn iterations_are_bounded() {
+        let many = laplacian(LaplacianConfig {
+            iterations: LaplacianIterations::Fixed(u32::MAX),
+            ..LaplacianConfig::default()
+        });
+        assert_eq!(refused(many), "laplacian.iterations");
+        let many = bilateral(BilateralConfig {
+            iterations: mesh_smooth_gpu::MAX_ITERATIONS + 1,
+            ..BilateralConfig::default()
+        });
+        assert_eq!(refused(many), "bilateral.iterations");
+        let auto = laplacian(LaplacianConfig {
+            iterations: LaplacianIterations::Auto,
+            ..LaplacianConfig::default()
+        });
+        assert_eq!(refused(auto), "accepted");
+    }
+
+    #[test]
+    fn kernels_are_odd_and_bounded() {
+        for kernel in [0, 1, 4, 17, 999_999] {
+            let l = laplacian(LaplacianConfig {
+                kernel,
+                ..LaplacianConfig::default()
+            });
+            assert_eq!(refused(l), "laplacian.kernel", "{kernel}");
+            let b = bilateral(BilateralConfig {
+                kernel,
+                ..BilateralConfig::default()
+            });
+            assert_eq!(refused(b), "bilateral.kernel", "{kernel}");
+        }
+    }
+
+    #[test]
+    fn bilateral_sigmas_are_positive() {
+        for sigma in [0.0, -0.1, f32::INFINITY, f32::NAN] {
+            let b = bilateral(BilateralConfig {
+                sigma_length: sigma,
+                ..BilateralConfig::default()
+            });
+            assert_eq!(refused(b), "bilateral.sigma_length", "{sigma}");
+            let b = bilateral(BilateralConfig {
+                sigma_angle: sigma,
+                ..BilateralConfig::default()
+            });
+            assert_eq!(refused(b), "bilateral.sigma_angle", "{sigma}");
+        }
+    }
+
+    #[test]
+    fn fastga_sample_fraction_is_in_zero_to_one() {
+        for sample_fraction in [0.0, -0.5, 1.5, f64::NAN] {
+            let config = Config::new().with_fastga(FastGaSection {
+                sample_fraction,
+                ..FastGaSection::default()
+            });
+            assert!(
+                refused(config).contains("sample_fraction"),
+                "{sample_fraction}"
+            );
+        }
+        let config = Config::new().with_fastga(FastGaSection {
+            level: 99,
+            ..FastGaSection::default()
+        });
+        assert!(refused(config).contains("level 99"));
+    }
+
+    #[test]
+    fn postprocess_lengths_are_checked_with_the_config() {
+        let config = Config::new().with_postprocess(Some(PostprocessSection {
+            beta_neg: -1.0,
+            ..PostprocessSection::default()
+        }));
+        assert!(refused(config).contains("beta_neg"));
+    }
+
+    #[test]
+    fn segmentation_rules_are_the_stage_rules() {
+        assert_eq!(refused(Config::new().with_z_thresh(-1.0)), "z_thresh");
+        assert_eq!(refused(Config::new().with_lmax(f64::INFINITY)), "lmax");
+        assert_eq!(refused(Config::new().with_norm_thresh(2.0)), "norm_thresh");
+        let config = Config {
+            min_area: -1.0,
+            ..Config::default()
+        };
+        assert_eq!(refused(config), "min_area");
+    }
+
+    #[test]
+    fn threads_are_bounded_by_the_cores() {
+        assert_eq!(
+            refused(Config::new().with_threads(max_threads())),
+            "accepted"
+        );
+        for threads in [max_threads() + 1, 100_000, usize::MAX] {
+            let text = refused(Config::new().with_threads(threads));
+            assert!(
+                text.contains(&format!("at most {}", max_threads())),
+                "{threads}: {text}"
+            );
+        }
     }
 }

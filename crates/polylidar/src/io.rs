@@ -3,6 +3,11 @@
 //! GeoJSON of [`crate::output::feature_collection`] and the plane label image of an
 //! organized input ([`write_labels`]).
 //!
+//! Every writer replaces its file atomically ([`polylidar_io::atomic`]): the bytes go to a
+//! temporary file beside the target, are flushed to disk and renamed over it, so a failed
+//! write (disk full, file size limit) leaves the previous file as it was and no partial
+//! file behind.
+//!
 //! The `polylidar` command and the Python package both load and write through here, so a
 //! file gives the same polygons from either.
 //!
@@ -200,7 +205,8 @@ impl Polylidar {
     }
 }
 
-/// Writes the GeoJSON of [`feature_collection`] to `path`, creating its directory.
+/// Writes the GeoJSON of [`feature_collection`] to `path` atomically, creating its
+/// directory.
 ///
 /// # Errors
 /// [`PolylidarError::Write`] when the directory or file cannot be written.
@@ -214,7 +220,8 @@ pub fn write_geojson(
 }
 
 /// Writes a label image (`rows × cols` int32 `.npy`, −1 for none; e.g.
-/// [`Extraction::point_labels`] of an organized input) to `path`, creating its directory.
+/// [`Extraction::point_labels`] of an organized input) to `path` atomically, creating its
+/// directory.
 ///
 /// # Errors
 /// [`PolylidarError::Write`] when the directory cannot be made, [`PolylidarError::Io`]
@@ -231,7 +238,8 @@ pub fn write_labels(
     Ok(())
 }
 
-/// Writes `bytes` to `path`, creating its directory.
+/// Writes `bytes` to `path` atomically ([`polylidar_io::atomic::write_atomic`]), creating
+/// its directory. On failure the previous file at `path` is unchanged.
 ///
 /// ```
 /// let path = std::env::temp_dir().join("polylidar-doc-write").join("hello.txt");
@@ -245,7 +253,7 @@ pub fn write_labels(
 pub fn write_file(path: impl AsRef<Path>, bytes: &[u8]) -> Result<(), PolylidarError> {
     let path = path.as_ref();
     create_parent(path)?;
-    std::fs::write(path, bytes).map_err(|e| write_error(path, &e))
+    polylidar_io::atomic::write_atomic(path, bytes).map_err(|e| write_error(path, &e))
 }
 
 /// Creates the directory `path` will be written into.
@@ -264,5 +272,66 @@ fn write_error(path: &Path, error: &std::io::Error) -> PolylidarError {
     PolylidarError::Write {
         path: path.to_path_buf(),
         message: error.to_string(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Config;
+
+    fn scratch(name: &str) -> std::path::PathBuf {
+        let dir = std::env::temp_dir().join(format!(
+            "polylidar-io-writers-{}-{name}",
+            std::process::id()
+        ));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        dir
+    }
+
+    fn names(dir: &Path) -> Vec<String> {
+        let mut names: Vec<String> = std::fs::read_dir(dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        names.sort();
+        names
+    }
+
+    #[test]
+    fn geojson_and_labels_replace_their_files_without_temporaries() {
+        let dir = scratch("replace");
+        let points: Vec<[f64; 2]> = (0..100)
+            .map(|i| [(i % 10) as f64, (i / 10) as f64])
+            .collect();
+        let extraction = Polylidar::new(Config::new().with_lmax(1.5))
+            .unwrap()
+            .extract_2d(&points)
+            .unwrap();
+        let json = dir.join("planes.geojson");
+        std::fs::write(&json, b"old").unwrap();
+        write_geojson(&json, &extraction, false, PolygonSet::Extracted).unwrap();
+        let text = std::fs::read_to_string(&json).unwrap();
+        assert!(text.starts_with("{\"type\":\"FeatureCollection\""));
+        write_labels(dir.join("labels.npy"), 2, 2, &[0, 1, -1, 0]).unwrap();
+        assert_eq!(names(&dir), ["labels.npy", "planes.geojson"]);
+    }
+
+    #[test]
+    fn a_refused_write_leaves_the_old_file() {
+        let dir = scratch("refused");
+        let path = dir.join("keep.geojson");
+        std::fs::write(&path, b"precious").unwrap();
+        let mut permissions = std::fs::metadata(&path).unwrap().permissions();
+        permissions.set_readonly(true);
+        std::fs::set_permissions(&path, permissions).unwrap();
+        let err = write_file(&path, b"new").unwrap_err();
+        assert!(
+            matches!(&err, PolylidarError::Write { path: p, .. } if p == &path),
+            "{err}"
+        );
+        assert_eq!(std::fs::read(&path).unwrap(), b"precious");
+        assert_eq!(names(&dir), ["keep.geojson"]);
     }
 }

@@ -59,7 +59,8 @@ pub mod shapes;
 
 pub use config::{
     BilateralConfig, Config, FastGaSection, FillConfig, LaplacianConfig, LaplacianIterations,
-    MAX_RANGE_EXPONENT, PRESETS, PostprocessSection, SmoothingBackend,
+    MAX_RANGE_EXPONENT, MAX_THREADS_PER_CORE, PRESETS, PostprocessSection, SmoothingBackend,
+    max_threads,
 };
 pub use diagnostics::{Counts, Diagnostics, Timings};
 pub use error::PolylidarError;
