@@ -21,7 +21,8 @@ pub enum NonManifoldPolicy {
     AllBorder,
 }
 
-/// What to do with a triangle that repeats a vertex or has zero area.
+/// What to do with a triangle that repeats a vertex, has zero area, or is so large that its
+/// area overflows `f64`.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash)]
 #[non_exhaustive]
 pub enum DegeneratePolicy {
@@ -217,6 +218,11 @@ fn check_triangle(vertices: &[[f64; 3]], tri: [u32; 3]) -> Result<(), MeshError>
         .iter()
         .map(|(p, q)| (0..3).map(|k| (p[k] - q[k]) * (p[k] - q[k])).sum::<f64>())
         .fold(0.0, f64::max);
+    if !(area2.is_finite() && longest2.is_finite()) {
+        return Err(degenerate(
+            "too large: its edge lengths or area overflow f64",
+        ));
+    }
     if area2 <= ZERO_AREA_RATIO * longest2 {
         return Err(degenerate("zero area"));
     }

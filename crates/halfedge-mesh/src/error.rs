@@ -56,7 +56,7 @@ pub enum MeshError {
         /// Number of vertices.
         num_vertices: usize,
     },
-    /// A triangle repeats a vertex or has (numerically) zero area.
+    /// A triangle repeats a vertex, has (numerically) zero area, or is too large to measure.
     #[error(
         "triangle {triangle} {vertices:?} is degenerate ({reason}); pass DegeneratePolicy::Drop to skip such triangles"
     )]
@@ -65,7 +65,7 @@ pub enum MeshError {
         triangle: usize,
         /// Its vertex indices.
         vertices: [u32; 3],
-        /// "repeated vertex" or "zero area".
+        /// "repeated vertex", "zero area" or "too large: …" (its area overflows `f64`).
         reason: &'static str,
     },
     /// A mesh was given without any triangle.

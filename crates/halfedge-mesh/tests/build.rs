@@ -185,6 +185,17 @@ fn user_triangle_errors_name_the_problem() {
             ..
         })
     ));
+    // Coordinates whose products overflow: not "zero area" (issue 22).
+    let mut huge = square();
+    huge[2] = [1e300, 1e300, 0.0];
+    match HalfEdgeMesh::from_triangles(huge, vec![[0, 1, 3], [1, 2, 3]]) {
+        Err(MeshError::DegenerateTriangle {
+            triangle: 1,
+            reason,
+            ..
+        }) => assert!(reason.starts_with("too large"), "{reason}"),
+        other => panic!("expected an overflow, got {other:?}"),
+    }
     assert_eq!(
         HalfEdgeMesh::from_triangles(square(), vec![]),
         Err(MeshError::NoTriangles)
