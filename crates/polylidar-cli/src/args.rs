@@ -25,6 +25,10 @@ pub enum Command {
     /// Extract the planes, then simplify and texture them into light meshes (Ma et al.
     /// 2013): OBJ + MTL + PNG and PLY.
     Mesh(crate::mesh::MeshArgs),
+    /// Extract planes and polygons from a stream of depth frames (a folder or glob of
+    /// 16-bit depth PNGs) with one pipeline kept across frames: GeoJSON lines or one file
+    /// per frame, per-frame timings and a summary.
+    Stream(crate::stream::StreamArgs),
 }
 
 /// The built-in inputs of `--demo`.
@@ -42,7 +46,8 @@ pub enum Demo {
 pub struct InputArgs {
     /// Input file. 2D points: .csv/.txt/.xyz or .npy with 2 columns. Unorganized 3D clouds
     /// (2.5D pipeline): 3 columns, .ply/.obj without faces, .las/.laz. Organized clouds:
-    /// .pcd with HEIGHT > 1, .npy H×W×3, 16-bit depth .png with its `_metadata.csv`.
+    /// .pcd with HEIGHT > 1, .npy H×W×3, 16-bit depth .png (camera: `--intrinsics` or its
+    /// `_metadata.csv`).
     /// Meshes: .ply/.obj with faces.
     #[arg(required_unless_present = "demo", conflicts_with = "demo")]
     pub input: Option<PathBuf>,
@@ -79,12 +84,38 @@ pub struct InputArgs {
     pub params: ParamArgs,
 }
 
+/// The camera of a 16-bit depth PNG. The intrinsics are `--intrinsics` when given, else
+/// the RealSense `_metadata.csv` beside the PNG; the depth scale is `--depth-scale` when
+/// given, else the CSV's `Depth Units`, else 1000 units per metre.
+#[derive(Debug, Args, Default, Clone)]
+pub struct CameraArgs {
+    /// Depth PNG: the camera's intrinsics, as `fx,fy,cx,cy` in pixels or a file: an
+    /// Open3D camera JSON (`width`, `height`, column-major `intrinsic_matrix`; its size
+    /// must be the image's) or a RealSense metadata CSV. Default: the RealSense
+    /// `_metadata.csv` beside the PNG.
+    #[arg(
+        long,
+        value_name = "FX,FY,CX,CY|FILE",
+        allow_hyphen_values = true,
+        help_heading = "Depth camera"
+    )]
+    pub intrinsics: Option<String>,
+    /// Depth PNG: depth units per metre (1000: millimetres, RealSense, ICL-NUIM, Kinect
+    /// through OpenNI; 5000: the TUM RGB-D benchmark). Default: the metadata CSV's
+    /// `Depth Units`, else 1000.
+    #[arg(long, value_name = "UNITS", help_heading = "Depth camera")]
+    pub depth_scale: Option<f64>,
+}
+
 /// Arguments of `polylidar extract`.
 #[derive(Debug, Args)]
 pub struct ExtractArgs {
     /// The input and its parameters.
     #[command(flatten)]
     pub input: InputArgs,
+    /// The camera of a depth PNG input.
+    #[command(flatten)]
+    pub camera: CameraArgs,
     /// Write the polygons as a GeoJSON FeatureCollection.
     #[arg(short, long, value_name = "FILE", help_heading = "Output")]
     pub output: Option<PathBuf>,

@@ -2,11 +2,11 @@
 
 use std::path::{Path, PathBuf};
 
-use polylidar::OrganizedPointCloud;
 pub use polylidar::io::Input;
-use polylidar::io::Limits;
+use polylidar::io::{CameraSource, DepthCamera, Limits, ReadNotes, is_missing_intrinsics};
+use polylidar::{Intrinsics, OrganizedPointCloud, PolylidarError};
 
-use crate::args::Demo;
+use crate::args::{CameraArgs, Demo};
 use crate::run::CliError;
 
 /// Points the 2D demo samples.
@@ -37,12 +37,26 @@ pub fn load(
     stride: usize,
     max_memory: Option<u64>,
 ) -> Result<Loaded, CliError> {
+    load_with_camera(path, demo, stride, max_memory, &DepthCamera::default())
+}
+
+/// [`load`], reading a depth PNG with `camera`.
+///
+/// # Errors
+/// As [`load`]; no camera intrinsics for a depth PNG ([`read_with_camera`]).
+pub fn load_with_camera(
+    path: Option<&Path>,
+    demo: Option<Demo>,
+    stride: usize,
+    max_memory: Option<u64>,
+    camera: &DepthCamera,
+) -> Result<Loaded, CliError> {
     let mut loaded = match (path, demo) {
         (Some(path), _) => {
             let limits = max_memory.map_or_else(Limits::default, |bytes| {
                 Limits::default().with_max_memory(bytes)
             });
-            let (input, notes) = Input::read_with(path, &limits)?;
+            let (input, notes) = read_with_camera(path, camera, &limits)?;
             if notes.invalid_skipped > 0 {
                 eprintln!(
                     "note: {}: {} skipped (a NaN coordinate marks an invalid point)",
@@ -80,6 +94,65 @@ pub fn load(
         loaded.input = Input::Organized(cloud.downsample(stride)?);
     }
     Ok(loaded)
+}
+
+/// The camera of `--intrinsics` and `--depth-scale`: numbers `fx,fy,cx,cy`, else a
+/// camera file; without `--intrinsics`, the RealSense CSV beside the PNG.
+///
+/// # Errors
+/// Numbers that are not four finite values.
+pub fn camera(args: &CameraArgs) -> Result<DepthCamera, CliError> {
+    let source = match args.intrinsics.as_deref() {
+        None => CameraSource::Beside,
+        Some(text) if text.contains(',') => {
+            let numbers: Vec<f64> = text
+                .split(',')
+                .map(|v| v.trim().parse::<f64>())
+                .collect::<Result<_, _>>()
+                .map_err(|_| bad_intrinsics(text))?;
+            let [fx, fy, cx, cy] = numbers[..] else {
+                return Err(bad_intrinsics(text));
+            };
+            CameraSource::Pinhole(Intrinsics::new(fx, fy, cx, cy))
+        }
+        Some(file) => CameraSource::File(PathBuf::from(file)),
+    };
+    let camera = DepthCamera::new(source);
+    Ok(match args.depth_scale {
+        Some(units) => camera.with_units_per_metre(units),
+        None => camera,
+    })
+}
+
+fn bad_intrinsics(text: &str) -> CliError {
+    CliError::Unsupported {
+        what: format!(
+            "--intrinsics {text}: expected four numbers fx,fy,cx,cy (pixels) or a camera file"
+        ),
+    }
+}
+
+/// Reads `path` within `limits` ([`Input::read_with_camera`]); a depth PNG without
+/// intrinsics gets an error naming the ways to give them.
+///
+/// # Errors
+/// Unreadable input; no camera intrinsics for a depth PNG.
+pub fn read_with_camera(
+    path: &Path,
+    camera: &DepthCamera,
+    limits: &Limits,
+) -> Result<(Input, ReadNotes), CliError> {
+    Input::read_with_camera(path, camera, limits).map_err(|e| match e {
+        e if is_missing_intrinsics(&e) => CliError::Unsupported {
+            what: format!(
+                "{}: no camera intrinsics: pass --intrinsics fx,fy,cx,cy and --depth-scale, \
+                 or an Open3D camera JSON, or put the RealSense _metadata.csv beside it",
+                path.display()
+            ),
+        },
+        PolylidarError::Io(e) => CliError::Input(e),
+        e => CliError::Pipeline(e),
+    })
 }
 
 fn demo_shape() -> Result<Input, CliError> {

@@ -7,6 +7,8 @@
 //! polylidar evaluate scan.pcd --labels truth.npy --preset synpeb
 //! polylidar generate --seed 3 --noise-mdeg 2 -o scan.pcd --labels-out truth.npy
 //! polylidar mesh depth.png --intrinsics camera.json --preset rgbd --texture -o room.obj
+//! polylidar extract tum_depth.png --intrinsics 525,525,319.5,239.5 --depth-scale 5000
+//! polylidar stream 'frames/depth_*.png' --intrinsics camera.json --preset rgbd-auto -o planes.geojsonl
 //! ```
 //!
 //! Exit codes: 0 done (also when nothing was found, unless `--strict`), 1 an error
@@ -21,6 +23,7 @@ mod params;
 mod plot;
 mod report;
 mod run;
+mod stream;
 
 use std::process::ExitCode;
 

@@ -7,7 +7,7 @@ use polylidar::{Extraction, Polylidar, PolylidarError};
 use polylidar_io::IoError;
 
 use crate::args::{Cli, Command, ExtractArgs, InputArgs};
-use crate::input::{Input, Loaded, load};
+use crate::input::{Input, Loaded, load_with_camera};
 use crate::{evaluate, params, plot, report};
 
 /// Everything that can stop a command.
@@ -94,6 +94,7 @@ pub fn run(cli: Cli) -> Result<Outcome, CliError> {
         Command::Evaluate(args) => evaluate::evaluate(&args).map(|()| Outcome::Done),
         Command::Generate(args) => evaluate::generate(&args).map(|()| Outcome::Done),
         Command::Mesh(args) => crate::mesh::mesh(&args),
+        Command::Stream(args) => crate::stream::stream(args),
     }
 }
 
@@ -103,11 +104,12 @@ fn extract(args: &ExtractArgs) -> Result<Outcome, CliError> {
         input,
         source,
         truth,
-    } = load(
+    } = load_with_camera(
         args.input.input.as_deref(),
         args.input.demo,
         stride,
         args.input.max_memory,
+        &crate::input::camera(&args.camera)?,
     )?;
     let header_unit = match args.input.input.as_deref() {
         Some(path) if polylidar_io::format_of(path) == Some(polylidar_io::Format::Las) => {

@@ -56,6 +56,7 @@ mod reuse;
 pub mod scale;
 mod scan;
 pub mod shapes;
+pub mod stream;
 
 pub use config::{
     BilateralConfig, Config, FastGaSection, FillConfig, LaplacianConfig, LaplacianIterations,

@@ -6,7 +6,7 @@
 
 use std::path::{Path, PathBuf};
 
-use polylidar::io::{CameraSource, DepthCamera, Input, is_missing_intrinsics};
+use polylidar::io::{CameraSource, DepthCamera, Input, Limits, is_missing_intrinsics};
 use polylidar::{Intrinsics, OrganizedPointCloud};
 
 /// The PrimeSense intrinsics of `rgbd/camera_primesense.json`, which Open3D uses for both
@@ -106,7 +106,11 @@ fn every_source_gives_the_hand_made_cloud() {
         assert_same(&beside, &expected, &format!("{name}, CSV beside"));
         std::fs::write(dir.join("frame_depth_metadata.csv"), realsense_csv(None)).unwrap();
         let flagged = DepthCamera::default().with_units_per_metre(units);
-        let Input::Organized(with_flag) = Input::read_with_camera(&copy, &flagged).unwrap() else {
+        let Input::Organized(with_flag) =
+            Input::read_with_camera(&copy, &flagged, &Limits::default())
+                .unwrap()
+                .0
+        else {
             panic!("a depth PNG is organized input")
         };
         assert_same(

@@ -3,7 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
-use polylidar_io::{ErrorKind, Format, IoError};
+use polylidar_io::{ErrorKind, Format, IoError, Limits, ReadNotes};
 
 use crate::{DepthOptions, Intrinsics, OrganizedPointCloud, PolylidarError};
 
@@ -134,10 +134,22 @@ impl DepthCamera {
     /// Reads a 16-bit depth PNG and back-projects it ([`Self::cloud`]).
     ///
     /// # Errors
-    /// An unreadable PNG, and those of [`Self::cloud`].
+    /// An unreadable PNG, one past the default [`Limits`], and those of [`Self::cloud`].
     pub fn read(&self, depth_png: impl AsRef<Path>) -> Result<OrganizedPointCloud, PolylidarError> {
+        self.read_with(depth_png, &Limits::default())
+    }
+
+    /// [`Self::read`] within `limits`.
+    ///
+    /// # Errors
+    /// As [`Self::read`].
+    pub fn read_with(
+        &self,
+        depth_png: impl AsRef<Path>,
+        limits: &Limits,
+    ) -> Result<OrganizedPointCloud, PolylidarError> {
         let path = depth_png.as_ref();
-        let image = polylidar_io::read_depth_png(path)?;
+        let image = polylidar_io::read_depth_png_with(path, limits)?;
         self.cloud(&image.data, image.height, image.width, Some(path))
     }
 }
@@ -175,20 +187,54 @@ fn from_file(path: &Path, width: usize, height: usize) -> Result<DepthOptions, P
 }
 
 impl super::Input {
-    /// Reads a file as [`super::Input::read`] does, but a depth PNG with `camera`'s
+    /// Reads a file as [`super::Input::read_with`] does, but a depth PNG with `camera`'s
     /// intrinsics and depth scale instead of only a RealSense CSV beside it.
     ///
     /// # Errors
-    /// As [`super::Input::read`] and [`DepthCamera::read`].
+    /// As [`super::Input::read_with`] and [`DepthCamera::read_with`].
     pub fn read_with_camera(
         path: impl AsRef<Path>,
         camera: &DepthCamera,
-    ) -> Result<Self, PolylidarError> {
+        limits: &Limits,
+    ) -> Result<(Self, ReadNotes), PolylidarError> {
         let path = path.as_ref();
         if polylidar_io::format_of(path) == Some(Format::DepthPng) {
-            Ok(Self::Organized(camera.read(path)?))
+            let cloud = camera.read_with(path, limits)?;
+            Ok((Self::Organized(cloud), ReadNotes::default()))
         } else {
-            Self::read(path)
+            Self::read_with(path, limits)
         }
+    }
+}
+
+impl crate::Polylidar {
+    /// [`Self::stream`] over 16-bit depth PNGs taken by `camera`, in the order given
+    /// (each named by its path); the PNGs are read, decoded and back-projected on the
+    /// loader thread.
+    ///
+    /// ```no_run
+    /// use polylidar::{Config, Polylidar};
+    /// use polylidar::io::{CameraSource, DepthCamera};
+    /// use polylidar::stream::StreamOptions;
+    ///
+    /// let camera = DepthCamera::new(CameraSource::File("camera_primesense.json".into()));
+    /// let frames = vec!["depth_00000.png".into(), "depth_00001.png".into()];
+    /// let polylidar = Polylidar::new(Config::preset("rgbd-auto").unwrap_or_default())?;
+    /// for frame in polylidar.stream_depth_pngs(frames, camera, StreamOptions::default()) {
+    ///     println!("{}: {} polygons", frame.name, frame.extraction?.polygons.len());
+    /// }
+    /// # Ok::<(), polylidar::PolylidarError>(())
+    /// ```
+    pub fn stream_depth_pngs(
+        &self,
+        paths: Vec<PathBuf>,
+        camera: DepthCamera,
+        options: crate::stream::StreamOptions,
+    ) -> crate::stream::FrameStream<'_> {
+        let sources = paths
+            .into_iter()
+            .map(|p| (p.display().to_string(), p))
+            .collect();
+        self.stream(sources, move |path: PathBuf| camera.read(&path), options)
     }
 }
