@@ -57,6 +57,7 @@ pub mod scale;
 mod scan;
 pub mod shapes;
 pub mod stream;
+pub mod tiles;
 
 pub use config::{
     BilateralConfig, Config, FastGaSection, FillConfig, LaplacianConfig, LaplacianIterations,
