@@ -11,7 +11,7 @@
 //! | PLY ascii / binary (both byte orders) | [`read_ply`] | [`write_ply`] (binary little-endian) |
 //! | Wavefront OBJ (`v`, `f`) | [`read_obj`] | — |
 //! | KITTI Velodyne `.bin` (float32 `x y z reflectance`, firing order kept) | [`read_kitti_bin`] → [`KittiScan`] | [`write_kitti_bin`] |
-//! | LAS / LAZ (via the `las` crate), with the length unit of the header ([`LengthUnit`]) | [`read_las`], [`read_las_unit`] | — |
+//! | LAS / LAZ (via the `las` crate), with the length unit of the header ([`LengthUnit`]) | [`read_las`], [`read_las_unit`], [`read_las_bounds`] | [`write_las`] |
 //! | colour: RGB pictures (8/16-bit PNG, JPEG) of RGB-D frames, PCD `rgb`/`rgba`, PLY `red green blue` | [`read_color_image`] (+ [`color_path_for`]), [`read_pcd_colors`], [`read_ply_colors`] | — |
 //!
 //! [`read_input`] picks the reader by extension and returns an [`InputKind`]. Every reader
@@ -94,6 +94,7 @@ pub use kitti::{
     KITTI_RECORD_BYTES, KittiScan, encode_kitti_bin, parse_kitti_bin, parse_kitti_bin_with,
     read_kitti_bin, read_kitti_bin_with, write_kitti_bin,
 };
+pub use lidar::{LasWriteOptions, read_las_bounds, write_las};
 pub use lidar::{parse_las, parse_las_with, read_las, read_las_unit, read_las_with};
 pub use limits::{
     DEFAULT_MAX_MEMORY, Limits, PIPELINE_BYTES_PER_POINT, default_max_memory, format_bytes,
