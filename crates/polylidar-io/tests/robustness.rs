@@ -8,10 +8,13 @@ use std::io::Cursor;
 use std::sync::OnceLock;
 
 use polylidar_io::{
-    DepthImage, MeshData, PcdEncoding, PcdScalar, PcdWriteOptions, PointCloud, encode_depth_png,
-    encode_npy_f32, encode_npy_f64, encode_npy_i32, encode_pcd, encode_ply, lzf,
-    parse_colorized_depth_png, parse_csv_points, parse_depth_png, parse_kitti_bin, parse_las,
-    parse_npy, parse_obj, parse_pcd, parse_pcd_fields, parse_ply, parse_realsense_intrinsics,
+    DepthImage, Limits, MeshData, PcdEncoding, PcdScalar, PcdWriteOptions, PointCloud,
+    encode_depth_png, encode_npy_f32, encode_npy_f64, encode_npy_i32, encode_pcd, encode_ply, lzf,
+    parse_color_image, parse_colorized_depth_png, parse_csv_points, parse_csv_points_with,
+    parse_depth_png, parse_depth_png_with, parse_kitti_bin, parse_kitti_bin_with, parse_las,
+    parse_las_with, parse_npy, parse_npy_with, parse_obj, parse_obj_with, parse_pcd,
+    parse_pcd_fields, parse_pcd_fields_with, parse_pcd_with, parse_ply, parse_ply_with,
+    parse_realsense_intrinsics,
 };
 use proptest::prelude::*;
 
@@ -28,6 +31,17 @@ fn parse_everything(bytes: &[u8]) {
     let _ = parse_realsense_intrinsics(&String::from_utf8_lossy(bytes));
     let _ = lzf::decompress(bytes, bytes.len() * 3);
     let _ = parse_kitti_bin(bytes);
+    let _ = parse_color_image(bytes);
+    // The same readers under a budget small enough that many inputs meet it.
+    let tight = Limits::default().with_max_memory(64 << 10);
+    let _ = parse_pcd_with(bytes, &tight);
+    let _ = parse_pcd_fields_with(bytes, &tight);
+    let _ = parse_npy_with(bytes, &tight);
+    let _ = parse_ply_with(bytes, &tight);
+    let _ = parse_obj_with(bytes, &tight);
+    let _ = parse_csv_points_with(bytes, &tight);
+    let _ = parse_depth_png_with(bytes, &tight);
+    let _ = parse_kitti_bin_with(bytes, &tight);
 }
 
 fn small_cloud() -> PointCloud {
@@ -145,6 +159,7 @@ fn seeds_are_valid() {
 fn parse_with_las(bytes: &[u8]) {
     parse_everything(bytes);
     let _ = parse_las(bytes);
+    let _ = parse_las_with(bytes, &Limits::default().with_max_memory(64 << 10));
 }
 
 #[derive(Debug, Clone)]

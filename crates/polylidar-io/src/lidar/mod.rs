@@ -8,8 +8,6 @@ use crate::error::{ErrorKind, Format, IoError, KindResult};
 use crate::limits::Limits;
 
 mod guard;
-mod write;
-pub use write::{LasWriteOptions, read_las_bounds, write_las};
 mod quiet;
 
 /// Bytes of point records decoded per batch: bounds memory use by what the file really
@@ -108,14 +106,30 @@ fn decode<R: Read + Seek + Send + Sync + 'static>(
     )
 }
 
-/// The message of a `las` error met while reading the header and VLRs.
+/// Whether `e` is the end of the data met too early, reported by `las` or by `laz`.
+fn is_eof(e: &las::Error) -> bool {
+    let eof = |io: &std::io::Error| io.kind() == std::io::ErrorKind::UnexpectedEof;
+    match e {
+        las::Error::Io(io) => eof(io),
+        las::Error::LasZipError(laz::LasZipError::IoError(io)) => eof(io),
+        _ => false,
+    }
+}
+
+/// The message of a `las` error met while reading the header, the VLRs and (LAZ) the
+/// chunk table.
 fn header_error(e: las::Error) -> ErrorKind {
     match e {
-        las::Error::Io(io) if io.kind() == std::io::ErrorKind::UnexpectedEof => {
-            ErrorKind::BadHeader(
-                "the file ends inside its header or variable-length records".to_owned(),
-            )
-        }
+        e if is_eof(&e) => ErrorKind::BadHeader(
+            "the file ends inside its header, its variable-length records or (LAZ) its \
+             chunk table"
+                .to_owned(),
+        ),
+        las::Error::LasZipError(laz::LasZipError::MissingChunkTable) => ErrorKind::Corrupt(
+            "the LAZ chunk table (at the offset the first 8 bytes of the point data give) \
+             is missing"
+                .to_owned(),
+        ),
         other => ErrorKind::Decoder(format!("LAS header: {other}")),
     }
 }
@@ -164,7 +178,7 @@ fn decode_unguarded<R: Read + Seek + Send + Sync + 'static>(
 fn point_error(e: las::Error, layout: &guard::Layout, first: u64, count: u64) -> ErrorKind {
     let which = layout.describe(first, count);
     match e {
-        las::Error::Io(io) if io.kind() == std::io::ErrorKind::UnexpectedEof => {
+        e if is_eof(&e) => {
             if layout.compressed {
                 ErrorKind::Corrupt(format!(
                     "the compressed data ends inside {which}: the file is truncated or its \
@@ -176,6 +190,9 @@ fn point_error(e: las::Error, layout: &guard::Layout, first: u64, count: u64) ->
         }
         las::Error::Io(io) if layout.compressed => {
             ErrorKind::Corrupt(format!("{which} cannot be decompressed: {io}"))
+        }
+        las::Error::LasZipError(laz) => {
+            ErrorKind::Corrupt(format!("{which} cannot be decompressed: {laz}"))
         }
         other => ErrorKind::Decoder(format!("{which}: {other}")),
     }

@@ -1,0 +1,121 @@
+#!/usr/bin/env bash
+# Builds the cargo-fuzz targets of fuzz/ and runs each for SECONDS_PER_TARGET seconds
+# (default 60), seeded from ../shared/fixtures, then prints a table: target, executions,
+# crashes (new files under fuzz/artifacts/TARGET: crash-, oom-, timeout-, leak-).
+#
+#   scripts/fuzz.sh [SECONDS_PER_TARGET]
+#
+# Environment: FUZZ_TARGETS="pcd ply" (default: all), FUZZ_PARALLEL=N targets at once
+# (default 1), FUZZ_SANITIZER=none|address (default none: the crates forbid unsafe code,
+# and without a sanitizer each target runs several times more inputs), POLYLIDAR_FIXTURES
+# (default ../shared/fixtures). Needs a nightly toolchain; installs cargo-fuzz from
+# crates.io when it is missing. The seed corpus is copied at run time into fuzz/corpus/
+# (git-ignored): small fixtures whole, big ones as their first 16 KiB.
+set -euo pipefail
+
+SECONDS_PER_TARGET=${1:-60}
+ROOT=$(cd "$(dirname "$0")/.." && pwd)
+FUZZ="$ROOT/fuzz"
+FIXTURES=${POLYLIDAR_FIXTURES:-$ROOT/../shared/fixtures}
+SANITIZER=${FUZZ_SANITIZER:-none}
+PARALLEL=${FUZZ_PARALLEL:-1}
+HEAD_BYTES=16384
+
+if ! cargo +nightly --version >/dev/null 2>&1; then
+    echo "fuzz.sh: needs a nightly toolchain (rustup toolchain install nightly)" >&2
+    exit 2
+fi
+if ! cargo fuzz --version >/dev/null 2>&1; then
+    cargo install cargo-fuzz --locked
+fi
+
+cd "$FUZZ"
+TARGETS=${FUZZ_TARGETS:-$(cargo +nightly fuzz list)}
+cargo +nightly fuzz build -O -s "$SANITIZER" $TARGETS
+
+# Extensions whose fixtures seed each reader target.
+declare -A SEEDS=(
+    [pcd]="pcd" [lzf]="pcd" [ply]="ply" [obj]="obj" [npy]="npy" [las]="las laz"
+    [csv]="csv txt xyz" [png]="png jpg jpeg" [kitti]="bin" [intrinsics]="csv json"
+)
+# The pipeline target's first byte picks the format (as fuzz/src/lib.rs input_of).
+declare -A FORMAT_BYTE=([pcd]=0 [ply]=1 [obj]=2 [npy]=3 [csv]=4 [las]=5 [laz]=5 [bin]=6 [png]=7)
+
+# Copies `file` (whole, or its first HEAD_BYTES) to `dest`, after the bytes `prefix`
+# given in printf notation.
+seed() {
+    local file=$1 dest=$2 prefix=${3:-}
+    { printf "$prefix"; head -c "$HEAD_BYTES" "$file"; } > "$dest"
+}
+
+make_corpus() {
+    local target=$1 dir="$FUZZ/corpus/$1"
+    mkdir -p "$dir"
+    [ -d "$FIXTURES" ] || return 0
+    local k=0
+    case $target in
+        pipeline)
+            while IFS= read -r -d '' f; do
+                local ext=${f##*.}
+                ext=${ext,,}
+                [ -n "${FORMAT_BYTE[$ext]:-}" ] || continue
+                local byte
+                byte=$(printf '\\%03o\\%03o' "${FORMAT_BYTE[$ext]}" $((k % 12)))
+                # Small inputs only: one pipeline run per input must stay short.
+                { printf "$byte"; head -c 4096 "$f"; } > "$dir/seed-$k"
+                k=$((k + 1))
+            done < <(find "$FIXTURES" -type f -print0 | sort -z)
+            ;;
+        config)
+            printf '\000min_triangles = 10\nlmax = 0.5\n' > "$dir/seed-0"
+            printf '\001[laplacian]\niterations = 2\nlambda = 0.5\n[postprocess]\nalpha = 0.1\n' > "$dir/seed-1"
+            printf '\002threads = 2\nnorm_thresh = 0.95\nz_thresh = 0.1\nup = [0, 0, 1]\n' > "$dir/seed-2"
+            ;;
+        *)
+            for ext in ${SEEDS[$target]:-}; do
+                while IFS= read -r -d '' f; do
+                    seed "$f" "$dir/seed-$k"
+                    k=$((k + 1))
+                done < <(find "$FIXTURES" -type f -iname "*.$ext" -print0 | sort -z)
+            done
+            ;;
+    esac
+}
+
+run_target() {
+    local target=$1 log="$FUZZ/artifacts/$1.log"
+    mkdir -p "$FUZZ/artifacts/$target"
+    make_corpus "$target"
+    local before
+    before=$(find "$FUZZ/artifacts/$target" -type f | wc -l)
+    local max_len=$HEAD_BYTES
+    [ "$target" = pipeline ] && max_len=4100
+    cargo +nightly fuzz run -O -s "$SANITIZER" "$target" "$FUZZ/corpus/$target" -- \
+        -max_total_time="$SECONDS_PER_TARGET" -rss_limit_mb=512 -timeout=20 \
+        -max_len="$max_len" -print_final_stats=1 > "$log" 2>&1 || true
+    local execs after
+    execs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' | tail -1)
+    after=$(find "$FUZZ/artifacts/$target" -type f | wc -l)
+    printf '%s %s %s\n' "$target" "${execs:-0}" $((after - before)) > "$FUZZ/artifacts/$target.result"
+}
+
+running=0
+for target in $TARGETS; do
+    run_target "$target" &
+    running=$((running + 1))
+    if [ "$running" -ge "$PARALLEL" ]; then
+        wait -n
+        running=$((running - 1))
+    fi
+done
+wait
+
+printf '\n| target | executions | crashes |\n| --- | ---: | ---: |\n'
+total_crashes=0
+for target in $TARGETS; do
+    read -r name execs crashes < "$FUZZ/artifacts/$target.result"
+    printf '| %s | %s | %s |\n' "$name" "$execs" "$crashes"
+    total_crashes=$((total_crashes + crashes))
+done
+echo "seconds per target: $SECONDS_PER_TARGET; logs and crash inputs: fuzz/artifacts/"
+[ "$total_crashes" -eq 0 ]
