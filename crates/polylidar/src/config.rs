@@ -73,6 +73,11 @@ pub struct Config {
     /// beam outliers, optionally the range image; see [`ScanSection`] and
     /// [`crate::Polylidar::extract_scan`]); absent = the points are taken as given.
     pub scan: Option<ScanSection>,
+    /// Unorganized clouds: take the 3D path, planes in every direction (normals, dominant
+    /// directions, a triangulation per direction; see
+    /// [`crate::Polylidar::extract_unorganized`] and [`crate::UnorganizedSection`]);
+    /// absent = the 2.5D path along [`Config::up`].
+    pub unorganized: Option<crate::UnorganizedSection>,
 }
 
 /// When an organized cloud's missing pixel is filled ([`Config::fill_missing`]): from at
@@ -442,7 +447,7 @@ impl PostprocessSection {
 }
 
 /// Names accepted by [`Config::preset`].
-pub const PRESETS: [&str; 9] = [
+pub const PRESETS: [&str; 11] = [
     "rgbd",
     "synpeb",
     "synpeb-auto",
@@ -452,6 +457,8 @@ pub const PRESETS: [&str; 9] = [
     "kitti-range",
     "mesh-basement",
     "mesh-mainfloor",
+    "room",
+    "aerial",
 ];
 
 impl Default for Config {
@@ -473,6 +480,7 @@ impl Default for Config {
             refine: false,
             fill_missing: None,
             scan: None,
+            unorganized: None,
         }
     }
 }
@@ -619,6 +627,13 @@ impl Config {
     ///   d_peak 0.1, 12 %; min_triangles 80 / 1000, norm 0.95, lmax 0.1, z 0.08, hole
     ///   vertices 6; post α 0.01 / 0.02, β_neg 0.025 / 0.05, β_pos 0 / 0.02, γ 0.07 / 0.25,
     ///   δ 0.05 / 0.1.
+    /// * `room` (ours): unorganized indoor clouds — scans with the grid dropped, merged
+    ///   views, SLAM maps — on the unorganized 3D path ([`Config::unorganized`], its
+    ///   defaults): FastGA level 4, v_min 5, d_peak 0.15, weight 0.01; lmax 0.1,
+    ///   min_triangles 250, z 0.07, norm 0.95, hole vertices 10.
+    /// * `aerial` (ours): airborne LiDAR on the unorganized 3D path, for pitched roofs and
+    ///   façades as well as flat roofs and the ground: FastGA as `room`; lmax 3,
+    ///   min_triangles 60, z 0.3, norm 0.94, hole vertices 8.
     pub fn preset(name: &str) -> Option<Self> {
         let base = Self::default();
         let post = |alpha, beta_neg, beta_pos, min_area, min_hole_area| {
@@ -747,6 +762,32 @@ impl Config {
                     ..base
                 }
             }
+            "room" => Self {
+                fastga: FastGaSection {
+                    min_cluster_weight: 0.01,
+                    ..fastga(4, 5.0, 0.15)
+                },
+                lmax: 0.1,
+                min_triangles: 250,
+                z_thresh: 0.07,
+                norm_thresh: 0.95,
+                min_hole_vertices: 10,
+                unorganized: Some(crate::UnorganizedSection::default()),
+                ..base
+            },
+            "aerial" => Self {
+                fastga: FastGaSection {
+                    min_cluster_weight: 0.01,
+                    ..fastga(4, 5.0, 0.15)
+                },
+                lmax: 3.0,
+                min_triangles: 60,
+                z_thresh: 0.3,
+                norm_thresh: 0.94,
+                min_hole_vertices: 8,
+                unorganized: Some(crate::UnorganizedSection::default()),
+                ..base
+            },
             _ => return None,
         })
     }
@@ -845,6 +886,9 @@ impl Config {
         }
         if let Some(scan) = &self.scan {
             scan.validate()?;
+        }
+        if let Some(unorganized) = &self.unorganized {
+            unorganized.validate()?;
         }
         let up_len2: f64 = self.up.iter().map(|c| c * c).sum();
         if !(up_len2.is_finite() && up_len2 > 0.0) {

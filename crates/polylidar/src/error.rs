@@ -37,6 +37,10 @@ pub enum PolylidarError {
     /// A smoothing filter failed (bad options, no GPU adapter, …).
     #[error(transparent)]
     Smooth(#[from] mesh_smooth_gpu::SmoothError),
+    /// Point normals or neighbourhoods of an unorganized cloud could not be computed
+    /// (empty cloud, non-finite point, bad voxel size).
+    #[error(transparent)]
+    Normals(#[from] cloud_normals::NormalsError),
     /// Dominant-normal detection failed.
     #[error(transparent)]
     FastGa(#[from] fastga::FastGaError),

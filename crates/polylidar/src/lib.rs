@@ -58,6 +58,7 @@ mod scan;
 pub mod shapes;
 pub mod stream;
 pub mod tiles;
+pub mod unorganized;
 
 pub use config::{
     BilateralConfig, Config, FastGaSection, FillConfig, LaplacianConfig, LaplacianIterations,
@@ -83,6 +84,7 @@ pub use pipeline::{
 /// [`Extraction::planar_meshes`].
 pub use planar_mesh;
 pub use scan::{BeamOutlierSection, BeamSource, FieldOfViewSection, PreparedScan, ScanSection};
+pub use unorganized::UnorganizedSection;
 
 #[doc = include_str!("../README.md")]
 #[cfg(doctest)]

@@ -125,6 +125,12 @@ pub struct Extraction {
     /// vertex; empty when none was). They are in the mesh and the polygons, but their
     /// labels are `-1`: the input had no measurement there.
     pub filled: Vec<bool>,
+    /// Unorganized 3D ([`Polylidar::extract_unorganized`]): the polygon of every input
+    /// point chosen by fit — of the polygons whose triangles use it, or (for a point in
+    /// none) whose plane its neighbours lie on, the one whose plane is nearest; `-1` for
+    /// none. [`Self::point_labels`] and [`Self::plane_labels`] follow it. Empty for the
+    /// other inputs.
+    pub fitted: Vec<i32>,
     /// Per-stage counts and timings.
     pub diagnostics: Diagnostics,
 }
@@ -228,6 +234,10 @@ impl Extraction {
     /// The label `label(polygon index)` of every vertex, as [`Self::point_labels`] assigns
     /// vertices to polygons.
     fn labels(&self, label: impl Fn(usize) -> i32) -> Vec<i32> {
+        if !self.fitted.is_empty() {
+            let by = |o: &i32| if *o < 0 { -1 } else { label(*o as usize) };
+            return self.fitted.iter().map(by).collect();
+        }
         let mut owner = vec![-1i32; self.mesh.num_vertices()];
         let triangles = self.mesh.triangles();
         let size = |l: i32| self.polygons[l as usize].triangles.len();
@@ -477,6 +487,7 @@ impl Polylidar {
             dominant_normals,
             rim_distance,
             filled: Vec::new(),
+            fitted: Vec::new(),
             diagnostics: Diagnostics { counts, timings },
         };
         self.postprocess(&mut extraction)?;

@@ -164,7 +164,7 @@ impl Polylidar {
     }
 
     /// FastGA (unless `dominant` is given), segmentation and polygons, post-processing.
-    fn extract_planes(
+    pub(crate) fn extract_planes(
         &self,
         mut mesh: HalfEdgeMesh,
         dominant: Option<Vec<[f64; 3]>>,

@@ -176,6 +176,10 @@ pub fn convert_lengths(config: &Config, factor: f64) -> Config {
     if let Some(bilateral) = &mut out.bilateral {
         bilateral.sigma_length = (f64::from(bilateral.sigma_length) * factor) as f32;
     }
+    if let Some(unorganized) = &mut out.unorganized {
+        unorganized.voxel *= factor;
+        unorganized.viewpoint = unorganized.viewpoint.map(|v| v.map(|c| c * factor));
+    }
     if let Some(post) = &mut out.postprocess {
         post.alpha *= factor;
         post.beta_pos *= factor;

@@ -1,0 +1,595 @@
+//! Unorganized 3D clouds with planes in every direction ([`Polylidar::extract_unorganized`]):
+//! point normals (read or estimated), dominant directions, and per direction the points
+//! that face it, triangulated as seen along it, grown into planes and extracted as
+//! polygons with holes in 3D.
+//!
+//! The 2.5D path ([`Polylidar::extract_25d`]) triangulates a whole cloud along one `up`
+//! vector and so finds only the planes that face it — the limit the Polylidar3D paper
+//! names (§10). This path lifts it:
+//!
+//! 1. optional voxel downsampling ([`UnorganizedSection::voxel`]);
+//! 2. normals: the caller's (a file's `normal_x/y/z`, `nx/ny/nz`), or PCA of the `k`
+//!    nearest neighbours ([`cloud_normals`]), oriented towards
+//!    [`UnorganizedSection::viewpoint`] or into the half-space of [`Config::up`];
+//! 3. dominant directions: FastGA on the normals taken both ways (so that a wall whose
+//!    normals point either way is one direction), then again on the flat points that no
+//!    direction explains yet (tilted faces too small to peak beside the floor), up to
+//!    [`UnorganizedSection::rounds`] rounds;
+//! 4. per direction `d`: the points whose normal is within `norm_thresh` of `±d`, split
+//!    into pieces connected through their nearest neighbours (a table top and the floor
+//!    below it are two pieces), each piece triangulated in 2D on the plane orthogonal to
+//!    `d` (2.5D Delaunay along `d`);
+//! 5. the pieces as one mesh, segmented by the directions as the organized path does
+//!    (`lmax`, `norm_thresh`, `z_thresh`, `min_triangles`, optional refinement), each
+//!    segment's polygon extracted in its plane, optional post-processing;
+//! 6. labels ([`Extraction::fitted`]): a point that several polygons use (an edge between a
+//!    wall and the floor) goes to the one whose plane is nearest; a point that none uses
+//!    goes to the nearest plane of its neighbours' polygons when it lies within
+//!    `z_thresh / 2` of it; with voxels, every input point takes its voxel's polygon when
+//!    it lies within that distance of its plane.
+
+use std::borrow::Cow;
+
+use cloud_normals::{Neighbours, Orientation, estimate_normals, orient, voxel_downsample};
+use fastga::FastGa;
+use halfedge_mesh::{HalfEdgeMesh, MeshError, NO_TWIN};
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+use crate::reuse;
+use crate::{Config, Counts, Extraction, Polylidar, PolylidarError, Timings};
+
+/// Directions at most (bits of a point's membership mask).
+pub const MAX_DIRECTIONS: usize = 64;
+
+/// A point is "flat" for the later rounds of direction finding when at least this share
+/// of its neighbours' normals lie within `norm_thresh` of its own.
+pub const FLAT_SHARE: f64 = 0.8;
+
+/// Parameters of the unorganized 3D path ([`Config::unorganized`]). Lengths in the unit of
+/// the coordinates.
+///
+/// ```
+/// use polylidar::{Config, UnorganizedSection};
+/// let config: Config = toml::from_str("[unorganized]\nk = 12\nvoxel = 0.02").unwrap();
+/// assert_eq!(config.unorganized, Some(UnorganizedSection { k: 12, voxel: 0.02, ..Default::default() }));
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct UnorganizedSection {
+    /// Nearest neighbours (the point included) for PCA normals, for the pieces each
+    /// direction's points split into, and for labelling the points next to a plane.
+    /// At least 3. Default 12.
+    pub k: usize,
+    /// Voxel downsampling: one point per cube of this side before anything else; `0`
+    /// (the default) keeps every point. Length unit.
+    pub voxel: f64,
+    /// Where the sensor was (normals are turned towards it); absent: normals point into
+    /// the half-space of [`Config::up`] (walls by a fixed side direction).
+    pub viewpoint: Option<[f64; 3]>,
+    /// Rounds of direction finding (the first on all normals, each further one on the
+    /// flat points no direction found so far explains). At least 1. Default 3.
+    pub rounds: usize,
+}
+
+impl Default for UnorganizedSection {
+    fn default() -> Self {
+        Self {
+            k: 12,
+            voxel: 0.0,
+            viewpoint: None,
+            rounds: 3,
+        }
+    }
+}
+
+impl UnorganizedSection {
+    /// Checks the ranges.
+    ///
+    /// # Errors
+    /// [`PolylidarError::Config`] naming the bad field.
+    pub fn validate(&self) -> Result<(), PolylidarError> {
+        let bad = |field, value: String, reason| {
+            Err(PolylidarError::Config {
+                field,
+                value,
+                reason,
+            })
+        };
+        if self.k < 3 {
+            return bad("unorganized.k", self.k.to_string(), "must be at least 3");
+        }
+        if !(self.voxel.is_finite() && self.voxel >= 0.0) {
+            return bad(
+                "unorganized.voxel",
+                self.voxel.to_string(),
+                "must be a finite length ≥ 0",
+            );
+        }
+        if self.rounds == 0 {
+            return bad("unorganized.rounds", "0".to_owned(), "must be at least 1");
+        }
+        if let Some(v) = self.viewpoint
+            && !v.iter().all(|c| c.is_finite())
+        {
+            return bad(
+                "unorganized.viewpoint",
+                format!("{v:?}"),
+                "must be a finite point",
+            );
+        }
+        Ok(())
+    }
+}
+
+impl Polylidar {
+    /// Planes and polygons with holes of an unorganized 3D cloud, in every direction (see
+    /// the [module docs](crate::unorganized)): `normals` (one per point, any length, a
+    /// zero vector for none) when the file has them, else estimated; parameters from
+    /// [`Config::unorganized`] (its defaults when absent). The extraction's mesh has one
+    /// vertex per input point; [`Extraction::fitted`] labels every point.
+    ///
+    /// ```
+    /// use polylidar::{Config, Polylidar};
+    /// // Two walls of a corner, 3 × 3 m, sampled every 5 cm.
+    /// let mut points = Vec::new();
+    /// for i in 0..60 {
+    ///     for j in 0..60 {
+    ///         let (u, v) = (0.05 * i as f64 + 0.025, 0.05 * j as f64);
+    ///         points.push([u, 0.0, v]); // the wall y = 0
+    ///         points.push([0.0, u, v]); // the wall x = 0
+    ///     }
+    /// }
+    /// let config = Config::new().with_lmax(0.2).with_z_thresh(0.05).with_norm_thresh(0.95);
+    /// let extraction = Polylidar::new(config)?.extract_unorganized(&points, None)?;
+    /// assert_eq!(extraction.polygons.len(), 2);
+    /// # Ok::<(), polylidar::PolylidarError>(())
+    /// ```
+    ///
+    /// # Errors
+    /// [`PolylidarError::Config`] for `normals` of another length than `points` or bad
+    /// [`UnorganizedSection`] values; [`PolylidarError::Normals`] for an empty cloud or a
+    /// non-finite point; and the errors of FastGA, segmentation and post-processing.
+    pub fn extract_unorganized(
+        &self,
+        points: &[[f64; 3]],
+        normals: Option<&[[f64; 3]]>,
+    ) -> Result<Extraction, PolylidarError> {
+        let section = self.config().unorganized.unwrap_or_default();
+        section.validate()?;
+        if let Some(n) = normals
+            && n.len() != points.len()
+        {
+            return Err(PolylidarError::Config {
+                field: "normals",
+                value: format!("{} normals", n.len()),
+                reason: "must be one per point",
+            });
+        }
+        self.install(|| self.unorganized(points, normals, &section))
+    }
+
+    fn unorganized(
+        &self,
+        points: &[[f64; 3]],
+        normals: Option<&[[f64; 3]]>,
+        section: &UnorganizedSection,
+    ) -> Result<Extraction, PolylidarError> {
+        let config = self.config();
+        let mut timings = Timings::default();
+        let voxels = match section.voxel > 0.0 {
+            true => Some(timings.time("voxel", || voxel_downsample(points, section.voxel))?),
+            false => None,
+        };
+        // The working points: all, or one per voxel (`work[w]` is its input index).
+        let work: Vec<u32> = match &voxels {
+            Some(v) => v.representatives.clone(),
+            None => (0..points.len() as u32).collect(),
+        };
+        let wpoints: Cow<'_, [[f64; 3]]> = match &voxels {
+            Some(_) => Cow::Owned(work.iter().map(|&i| points[i as usize]).collect()),
+            None => Cow::Borrowed(points),
+        };
+        let (knn, wnormals) = timings.time("normals", || {
+            working_normals(&wpoints, &work, normals, section, config.up)
+        })?;
+        let directions = timings.time("fastga", || self.directions(&wnormals, &knn))?;
+        let pieces = Pieces {
+            points: &wpoints,
+            normals: &wnormals,
+            knn: &knn,
+            directions: &directions,
+            norm_thresh: config.norm_thresh,
+            z_cut: if config.z_thresh > 0.0 {
+                config.z_thresh
+            } else {
+                f64::INFINITY
+            },
+            min_points: if config.min_area > 0.0 {
+                3
+            } else {
+                (config.min_triangles / 2).max(3)
+            },
+        };
+        let (mesh, duplicate_points) = timings.time("mesh", || pieces.mesh(points, &work))?;
+        let counts = Counts {
+            points: points.len(),
+            duplicate_points,
+            ..Counts::default()
+        };
+        let mut extraction = self.extract_planes(mesh, Some(directions), counts, timings)?;
+        extraction.rim_distance = 0.0;
+        let rim = if config.z_thresh > 0.0 {
+            config.z_thresh / 2.0
+        } else {
+            config.lmax / 4.0
+        };
+        let mut label_timing = Timings::default();
+        let fitted = label_timing.time("labels", || {
+            fitted_labels(&extraction, points, &work, &knn, voxels.as_ref(), rim)
+        });
+        extraction.fitted = fitted;
+        label_timing.prepend(std::mem::take(&mut extraction.diagnostics.timings));
+        extraction.diagnostics.timings = label_timing;
+        Ok(extraction)
+    }
+
+    /// Dominant directions of `normals`, round after round on what is left (see the
+    /// module docs), each signed like most of the normals that agree with it; at most
+    /// [`MAX_DIRECTIONS`].
+    fn directions(
+        &self,
+        normals: &[[f64; 3]],
+        knn: &Neighbours,
+    ) -> Result<Vec<[f64; 3]>, PolylidarError> {
+        let config = self.config();
+        let cos = config.norm_thresh;
+        let rounds = config.unorganized.unwrap_or_default().rounds;
+        let flat: Vec<bool> = (0..normals.len())
+            .into_par_iter()
+            .map(|i| {
+                let n = normals[i];
+                let around = knn.of(i);
+                let agree = around
+                    .iter()
+                    .filter(|&&j| dot(n, normals[j as usize]).abs() >= cos)
+                    .count();
+                dot(n, n) > 0.5 && agree as f64 >= FLAT_SHARE * around.len() as f64
+            })
+            .collect();
+        let mut found: Vec<[f64; 3]> = Vec::new();
+        let mut left: Vec<usize> = (0..normals.len())
+            .filter(|&i| dot(normals[i], normals[i]) > 0.5)
+            .collect();
+        for round in 0..rounds {
+            if round > 0 {
+                left.retain(|&i| {
+                    flat[i] && !found.iter().any(|d| dot(normals[i], *d).abs() >= cos)
+                });
+                if left.len() < config.min_triangles.max(3) {
+                    break;
+                }
+            }
+            let both: Vec<[f64; 3]> = left
+                .iter()
+                .flat_map(|&i| {
+                    let n = normals[i];
+                    [n, n.map(|c| -c)]
+                })
+                .collect();
+            let peaks = self.fastga_peaks(&both)?;
+            let before = found.len();
+            for d in peaks {
+                // Either sign of a direction found already (in this round: its antipode).
+                if found.iter().any(|f| dot(*f, d).abs() >= cos.max(0.9)) {
+                    continue;
+                }
+                if found.len() < MAX_DIRECTIONS {
+                    found.push(d);
+                }
+            }
+            if found.len() == before {
+                break;
+            }
+        }
+        // Sign: the way most of the agreeing (oriented) normals point.
+        Ok(found
+            .into_iter()
+            .map(|d| {
+                let sum: f64 = normals
+                    .par_iter()
+                    .map(|n| {
+                        let c = dot(*n, d);
+                        if c.abs() >= cos { c.signum() } else { 0.0 }
+                    })
+                    .sum();
+                if sum < 0.0 { d.map(|c| -c) } else { d }
+            })
+            .collect())
+    }
+
+    /// FastGA's dominant normals of `normals`, with the detector kept between runs.
+    fn fastga_peaks(&self, normals: &[[f64; 3]]) -> Result<Vec<[f64; 3]>, PolylidarError> {
+        if normals.is_empty() {
+            return Ok(Vec::new());
+        }
+        let config = self.config().fastga.config_for(normals.len());
+        let mut reuse = reuse::lock(&self.reuse);
+        let fastga = match reuse.fastga.as_mut() {
+            Some(fastga) => fastga,
+            None => reuse.fastga.insert(FastGa::new(config)?),
+        };
+        fastga.set_sample_fraction(config.sample_fraction)?;
+        let found = fastga.detect(normals)?;
+        Ok(found.normals.iter().map(|d| d.normal).collect())
+    }
+}
+
+/// Neighbours and oriented unit normals of the working points (`work[w]` is the input
+/// index of working point `w`).
+fn working_normals(
+    wpoints: &[[f64; 3]],
+    work: &[u32],
+    normals: Option<&[[f64; 3]]>,
+    section: &UnorganizedSection,
+    up: [f64; 3],
+) -> Result<(Neighbours, Vec<[f64; 3]>), PolylidarError> {
+    let knn = Neighbours::new(wpoints, section.k)?;
+    let mut wnormals = match normals {
+        Some(given) => work
+            .par_iter()
+            .map(|&i| {
+                let n = given[i as usize];
+                let len = dot(n, n).sqrt();
+                if len.is_finite() && len > 0.0 {
+                    n.map(|c| c / len)
+                } else {
+                    [0.0; 3]
+                }
+            })
+            .collect(),
+        None => estimate_normals(wpoints, &knn),
+    };
+    let orientation = match section.viewpoint {
+        Some(v) => Orientation::Towards(v),
+        None => Orientation::Along(up),
+    };
+    orient(wpoints, &mut wnormals, orientation)?;
+    Ok((knn, wnormals))
+}
+
+/// What splitting the points by direction and into connected pieces needs.
+struct Pieces<'a> {
+    points: &'a [[f64; 3]],
+    normals: &'a [[f64; 3]],
+    knn: &'a Neighbours,
+    directions: &'a [[f64; 3]],
+    norm_thresh: f64,
+    /// Neighbours further apart than this along the direction are not connected.
+    z_cut: f64,
+    /// Pieces with fewer points are not triangulated.
+    min_points: usize,
+}
+
+/// One piece: a direction and working point indices.
+type Piece = (usize, Vec<u32>);
+
+/// A piece's triangulation and the duplicate points it left out; `None` for a piece
+/// that has no triangle (collinear points).
+type Triangulated = Option<(HalfEdgeMesh, usize)>;
+
+impl Pieces<'_> {
+    /// The pieces of every direction, triangulated along it and gathered into one mesh
+    /// whose vertices are the input `points` (`work` maps working to input indices); and
+    /// the duplicate points the triangulations left out.
+    fn mesh(
+        &self,
+        points: &[[f64; 3]],
+        work: &[u32],
+    ) -> Result<(HalfEdgeMesh, usize), PolylidarError> {
+        let masks: Vec<u64> = self
+            .normals
+            .par_iter()
+            .map(|n| {
+                self.directions
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, d)| dot(*n, **d).abs() >= self.norm_thresh)
+                    .fold(0u64, |m, (j, _)| m | (1 << j))
+            })
+            .collect();
+        let mut pieces: Vec<Piece> = (0..self.directions.len())
+            .into_par_iter()
+            .flat_map_iter(|j| self.split(j, &masks))
+            .collect();
+        // Largest first, for the parallel triangulation; the order of the mesh is fixed
+        // by (direction, first point) below.
+        pieces.sort_by_key(|(j, members)| (*j, members[0]));
+        let mut order: Vec<usize> = (0..pieces.len()).collect();
+        order.sort_by_key(|&p| std::cmp::Reverse(pieces[p].1.len()));
+        let mut meshes: Vec<Triangulated> = vec![None; pieces.len()];
+        let built: Vec<(usize, Result<Triangulated, MeshError>)> = order
+            .par_iter()
+            .map(|&p| {
+                let (j, members) = &pieces[p];
+                let local: Vec<[f64; 3]> =
+                    members.iter().map(|&w| self.points[w as usize]).collect();
+                let result =
+                    match HalfEdgeMesh::delaunay_25d_with_report(&local, self.directions[*j]) {
+                        Ok((mesh, report)) => Ok(Some((mesh, report.duplicate_points))),
+                        Err(MeshError::Collinear { .. } | MeshError::TooFewPoints { .. }) => {
+                            Ok(None)
+                        }
+                        Err(e) => Err(e),
+                    };
+                (p, result)
+            })
+            .collect();
+        for (p, result) in built {
+            meshes[p] = result?;
+        }
+        let mut triangles = Vec::new();
+        let mut halfedges = Vec::new();
+        let mut normals = Vec::new();
+        let mut duplicates = 0;
+        for ((_, members), mesh) in pieces.iter().zip(meshes) {
+            let Some((mesh, dup)) = mesh else { continue };
+            duplicates += dup;
+            let offset = 3 * triangles.len() as u32;
+            let (_, tris, twins, tnormals) = mesh.into_parts();
+            normals.extend(tris.iter().zip(tnormals).map(|(t, geometric)| {
+                self.vertex_mean_normal(t.map(|v| members[v as usize]), geometric)
+            }));
+            triangles.extend(
+                tris.into_iter()
+                    .map(|t| t.map(|v| work[members[v as usize] as usize])),
+            );
+            halfedges.extend(
+                twins
+                    .into_iter()
+                    .map(|h| if h == NO_TWIN { NO_TWIN } else { h + offset }),
+            );
+        }
+        let mesh = HalfEdgeMesh::from_parts_trusted(points.to_vec(), triangles, halfedges, normals);
+        Ok((mesh, duplicates))
+    }
+
+    /// The normal of a triangle of working points `corners`: the mean of their point
+    /// normals, each turned to the side of the triangle's `geometric` normal (the point
+    /// normals are smoother than three noisy points); `geometric` when they cancel out.
+    fn vertex_mean_normal(&self, corners: [u32; 3], geometric: [f64; 3]) -> [f64; 3] {
+        let mut sum = [0.0; 3];
+        for c in corners {
+            let n = self.normals[c as usize];
+            let s = if dot(n, geometric) < 0.0 { -1.0 } else { 1.0 };
+            for a in 0..3 {
+                sum[a] += s * n[a];
+            }
+        }
+        let len = dot(sum, sum).sqrt();
+        if len > 1e-9 {
+            sum.map(|c| c / len)
+        } else {
+            geometric
+        }
+    }
+
+    /// The pieces of direction `j`: its member points connected through neighbours that
+    /// are members too and lie within `z_cut` of each other along it.
+    fn split(&self, j: usize, masks: &[u64]) -> Vec<Piece> {
+        let bit = 1u64 << j;
+        let d = self.directions[j];
+        let mut parent: Vec<u32> = (0..masks.len() as u32).collect();
+        let find = |parent: &mut Vec<u32>, mut x: u32| {
+            while parent[x as usize] != x {
+                let up = parent[parent[x as usize] as usize];
+                parent[x as usize] = up;
+                x = up;
+            }
+            x
+        };
+        for (i, _) in masks.iter().enumerate().filter(|(_, m)| *m & bit != 0) {
+            let p = self.points[i];
+            for &n in self.knn.of(i) {
+                if masks[n as usize] & bit == 0 {
+                    continue;
+                }
+                let q = self.points[n as usize];
+                if dot(d, [p[0] - q[0], p[1] - q[1], p[2] - q[2]]).abs() > self.z_cut {
+                    continue;
+                }
+                let (a, b) = (find(&mut parent, i as u32), find(&mut parent, n));
+                if a != b {
+                    let (low, high) = if a < b { (a, b) } else { (b, a) };
+                    parent[high as usize] = low;
+                }
+            }
+        }
+        let mut keyed: Vec<(u32, u32)> = (0..masks.len())
+            .filter(|&i| masks[i] & bit != 0)
+            .map(|i| (find(&mut parent, i as u32), i as u32))
+            .collect();
+        keyed.sort_unstable();
+        keyed
+            .chunk_by(|a, b| a.0 == b.0)
+            .filter(|group| group.len() >= self.min_points)
+            .map(|group| (j, group.iter().map(|&(_, i)| i).collect()))
+            .collect()
+    }
+}
+
+/// The polygon of every input point, by fit (see the module docs, step 6).
+fn fitted_labels(
+    extraction: &Extraction,
+    points: &[[f64; 3]],
+    work: &[u32],
+    knn: &Neighbours,
+    voxels: Option<&cloud_normals::Voxels>,
+    rim: f64,
+) -> Vec<i32> {
+    let distance = |polygon: i32, p: [f64; 3]| {
+        let plane = &extraction.polygons[polygon as usize].plane;
+        (dot(plane.normal, p) + plane.offset).abs()
+    };
+    let mut best = vec![(f64::INFINITY, -1i32); points.len()];
+    let triangles = extraction.mesh.triangles();
+    for (index, polygon) in extraction.polygons.iter().enumerate() {
+        for &t in &polygon.triangles {
+            for v in triangles[t as usize] {
+                let d = distance(index as i32, points[v as usize]);
+                let slot = &mut best[v as usize];
+                if d < slot.0 {
+                    *slot = (d, index as i32);
+                }
+            }
+        }
+    }
+    // Working points in no polygon: the nearest plane among their neighbours' polygons.
+    let rims: Vec<(usize, i32)> = (0..work.len())
+        .into_par_iter()
+        .filter(|&w| best[work[w] as usize].1 < 0)
+        .filter_map(|w| {
+            let p = points[work[w] as usize];
+            knn.of(w)
+                .iter()
+                .map(|&n| best[work[n as usize] as usize].1)
+                .filter(|&l| l >= 0)
+                .map(|l| (distance(l, p), l))
+                .filter(|&(d, _)| d <= rim)
+                .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)))
+                .map(|(_, l)| (work[w] as usize, l))
+        })
+        .collect();
+    for (i, l) in rims {
+        best[i].1 = l;
+    }
+    let mut labels: Vec<i32> = best.into_iter().map(|(_, l)| l).collect();
+    if let Some(voxels) = voxels {
+        let of_voxel: Vec<i32> = voxels
+            .representatives
+            .iter()
+            .map(|&r| labels[r as usize])
+            .collect();
+        for (i, label) in labels.iter_mut().enumerate() {
+            let l = of_voxel[voxels.voxel_of[i] as usize];
+            if *label < 0 && l >= 0 && distance(l, points[i]) <= rim {
+                *label = l;
+            }
+        }
+    }
+    labels
+}
+
+#[inline]
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+impl Config {
+    /// Sets [`Config::unorganized`] (`None`: unorganized clouds take the 2.5D path unless
+    /// asked for [`Polylidar::extract_unorganized`], which then uses the defaults).
+    pub fn with_unorganized(mut self, unorganized: Option<UnorganizedSection>) -> Self {
+        self.unorganized = unorganized;
+        self
+    }
+}
