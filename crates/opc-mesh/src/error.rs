@@ -65,16 +65,30 @@ pub enum OpcError {
         expected: &'static str,
     },
     /// No cell of the cloud has a triangle with three valid, distinct vertices (for example
-    /// a cloud that is all NaN).
-    #[error(
-        "no triangle can be formed: {valid_points} of {points} points are valid, and a \
-         triangle needs three valid neighbours (a pixel, its right or lower neighbour and \
-         its lower-right neighbour)"
-    )]
+    /// a cloud that is all NaN, all zero, or whose coordinates overflow a normal).
+    #[error("no triangle can be formed: {}", no_triangles_reason(*.valid_points, *.points))]
     NoTriangles {
         /// Valid (finite) points in the cloud.
         valid_points: usize,
         /// All points in the cloud.
         points: usize,
     },
+}
+
+/// Why no triangle could be formed, from the count of valid points.
+fn no_triangles_reason(valid: usize, points: usize) -> String {
+    if valid == 0 {
+        format!(
+            "none of the {points} points is valid (every one has a NaN or infinite coordinate, or depth 0)"
+        )
+    } else if valid < 3 {
+        format!("only {valid} of the {points} points are valid; a triangle needs three")
+    } else {
+        format!(
+            "{valid} of the {points} points are valid, but no cell has three valid corners \
+             spanning a triangle of non-zero, finite area: the valid points are isolated \
+             (no valid right or lower neighbour), coincident (e.g. all zero), collinear, or so \
+             large that a triangle's normal overflows (coordinates beyond about 1e150)"
+        )
+    }
 }

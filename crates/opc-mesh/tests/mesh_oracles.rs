@@ -338,9 +338,18 @@ fn no_triangle_errors() {
         }
     );
     assert!(
-        err.to_string().contains("0 of 12 points are valid"),
+        err.to_string().contains("none of the 12 points is valid"),
         "{err}"
     );
+    // All zero, or coordinates whose normals overflow: valid points, no area; the message
+    // says so instead of blaming invalid neighbours.
+    for value in [0.0, 1e300] {
+        let flat = OrganizedPointCloud::new(3, 3, vec![[value; 3]; 9]).expect("shape");
+        let err = flat.mesh(&OpcMeshOptions::default()).unwrap_err();
+        let text = err.to_string();
+        assert!(text.contains("9 of the 9 points are valid"), "{text}");
+        assert!(text.contains("coincident") && text.contains("overflows"), "{text}");
+    }
     // Valid points on a checkerboard never form a triangle.
     let checker: Vec<[f64; 3]> = (0..16)
         .map(|i| {
