@@ -222,7 +222,8 @@ fn grow_all(
     let mut same_plane: Vec<u32> = (0..results.len() as u32).collect();
     if config.refine {
         // Growth order depends on the threads; refinement must not.
-        regions.sort_unstable_by_key(|r| (r.group, r.triangles.iter().min().copied()));
+        // The key reads every triangle of a region: computed once per region.
+        regions.sort_by_cached_key(|r| (r.group, r.triangles.iter().min().copied()));
         let refined = crate::refine::refine(mesh, regions, config);
         counts.absorbed = refined.absorbed;
         counts.free_planes = refined.free_planes;
