@@ -30,8 +30,15 @@ if ! cargo fuzz --version >/dev/null 2>&1; then
 fi
 
 cd "$FUZZ"
-TARGETS=${FUZZ_TARGETS:-$(cargo +nightly fuzz list)}
-cargo +nightly fuzz build -O -s "$SANITIZER" $TARGETS
+if [ -n "${FUZZ_TARGETS:-}" ]; then
+    TARGETS=$FUZZ_TARGETS
+    for target in $TARGETS; do
+        cargo +nightly fuzz build -O -s "$SANITIZER" "$target"
+    done
+else
+    TARGETS=$(cargo +nightly fuzz list)
+    cargo +nightly fuzz build -O -s "$SANITIZER"
+fi
 
 # Extensions whose fixtures seed each reader target.
 declare -A SEEDS=(

@@ -6,13 +6,13 @@ use polylidar_io::{CameraIntrinsics, InputKind, Limits, PointCloud};
 /// The budget of the reader targets: small enough that no input can take the fuzzer past
 /// its `-rss_limit_mb`, large enough for every seed.
 pub fn reader_limits() -> Limits {
-    Limits::default().with_max_memory(64 << 20)
+    Limits::default().with_max_memory(16 << 20)
 }
 
-/// The budget of the end-to-end target: a few tens of thousands of points at most, so
-/// that one run of the pipeline stays short.
+/// The budget of the end-to-end target: about ten thousand points at most, so that one
+/// run of the pipeline stays short.
 pub fn pipeline_limits() -> Limits {
-    Limits::default().with_max_memory(16 << 20)
+    Limits::default().with_max_memory(4 << 20)
 }
 
 /// Reads `data` as the format `selector` names (as `read_input` would a file of that

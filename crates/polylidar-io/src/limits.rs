@@ -104,31 +104,75 @@ impl Limits {
         Ok(())
     }
 
-    /// Reads the file at `path` whole, refusing a regular file larger than the budget
-    /// before reading it, and any stream (FIFO, device) as soon as it passes the budget.
+    /// Most bytes of a file a read holds: half the budget, since whatever the format, its
+    /// decoded arrays take at least as much again.
+    pub(crate) fn max_file_bytes(&self) -> u64 {
+        self.max_memory / 2
+    }
+
+    /// Reads the file at `path` whole, refusing a regular file larger than
+    /// [`Self::max_file_bytes`] before reading it, and any stream (FIFO, device) as soon as
+    /// it passes that size.
     pub(crate) fn read_file(&self, path: &Path, format: Format) -> Result<Vec<u8>, IoError> {
         let fail = |k: ErrorKind| IoError::new(format, k).at(path);
         let file = std::fs::File::open(path).map_err(|e| fail(ErrorKind::Os(e)))?;
         let meta = file.metadata().map_err(|e| fail(ErrorKind::Os(e)))?;
-        let too_big = |size: String| {
+        let max = self.max_file_bytes();
+        let too_big = |what: String, estimate: u64| {
             fail(ErrorKind::OverBudget {
-                what: format!("holding the file's bytes ({size})"),
-                estimate: self.max_memory.saturating_add(1),
+                what,
+                estimate,
                 limit: self.max_memory,
             })
         };
-        if meta.is_file() && meta.len() > self.max_memory {
-            return Err(too_big(format!("{} bytes", meta.len())));
+        if meta.is_file() && meta.len() > max {
+            return Err(too_big(
+                format!(
+                    "holding a file of {} bytes and decoding it (twice its size at least)",
+                    meta.len()
+                ),
+                meta.len().saturating_mul(2),
+            ));
         }
         let expected = if meta.is_file() { meta.len() } else { 0 };
-        let mut bytes = Vec::with_capacity(usize::try_from(expected).unwrap_or(0));
-        file.take(self.max_memory.saturating_add(1))
-            .read_to_end(&mut bytes)
-            .map_err(|e| fail(ErrorKind::Os(e)))?;
-        if bytes.len() as u64 > self.max_memory {
-            return Err(too_big("a stream that does not end within it".to_owned()));
+        match read_bounded(file, max, expected).map_err(|e| fail(ErrorKind::Os(e)))? {
+            Some(bytes) => Ok(bytes),
+            None => Err(too_big(
+                format!(
+                    "a stream that does not end within {} bytes (half the budget: its bytes \
+                     and their decoding)",
+                    max
+                ),
+                max.saturating_mul(2).saturating_add(2),
+            )),
         }
-        Ok(bytes)
+    }
+}
+
+/// Reads `r` to its end, or `None` as soon as it passes `max` bytes; the buffer never
+/// holds more than `max` bytes of capacity, so a stream without end costs at most that.
+fn read_bounded(mut r: impl Read, max: u64, expected: u64) -> std::io::Result<Option<Vec<u8>>> {
+    let max = usize::try_from(max).unwrap_or(usize::MAX);
+    let first = usize::try_from(expected).unwrap_or(max).min(max);
+    let mut bytes: Vec<u8> = Vec::with_capacity(first.max(1));
+    let mut chunk = vec![0u8; 1 << 16];
+    loop {
+        let n = match r.read(&mut chunk) {
+            Ok(0) => return Ok(Some(bytes)),
+            Ok(n) => n,
+            Err(e) if e.kind() == std::io::ErrorKind::Interrupted => continue,
+            Err(e) => return Err(e),
+        };
+        let len = bytes.len() + n;
+        if len > max {
+            return Ok(None);
+        }
+        if len > bytes.capacity() {
+            // Doubling, but never past `max`.
+            let target = bytes.capacity().saturating_mul(2).max(len).min(max);
+            bytes.reserve_exact(target - bytes.len());
+        }
+        bytes.extend_from_slice(&chunk[..n]);
     }
 }
 
