@@ -11,6 +11,7 @@
 
 mod bench;
 mod chart;
+mod city;
 mod data;
 mod error;
 mod machine;
@@ -48,6 +49,8 @@ enum Command {
     /// Reproduce the papers' timing and accuracy tables into target/bench/ (docs/bench/
     /// with --publish).
     Bench(BenchArgs),
+    /// Write a synthetic city (synthscan::City) as LAS/LAZ tiles with ground-truth labels.
+    City(city::CityArgs),
 }
 
 /// Options of `cargo xtask bench`.
@@ -90,6 +93,7 @@ fn main() -> std::process::ExitCode {
 fn run(cli: Cli) -> Result<()> {
     match cli.command {
         Command::Bench(args) => bench(args),
+        Command::City(args) => city::city(&args),
     }
 }
 

@@ -20,6 +20,9 @@
 //!   grazing incidence, depth edges, baseline shadows and outside the range), scanned by
 //!   [`Scene::scan_depth`]; [`rgbd_like`] gives a furnished room ([`Scene::indoor`]) and
 //!   one of the four [`DepthCameraKind`]s.
+//! * Airborne LiDAR: a [`City`] of flat, gabled and hipped roofs (courtyards as holes),
+//!   trees and streets, scanned in zig-zag strips, generated square by square
+//!   ([`City::tile`]) with ground-truth roof-plane labels, from 10⁵ to 10⁹ points.
 //!
 //! Units: metres for lengths, degrees for angles, millidegrees for tangential noise. The
 //! world frame is right-handed; builders put z up and the floor on `z = 0`. Sensor frames
@@ -56,6 +59,7 @@
 
 mod builders;
 mod bvh;
+mod city;
 mod depth;
 mod error;
 mod face;
@@ -72,6 +76,7 @@ pub use builders::{
     FLOOR_LABEL, FloorBox, RampsConfig, RandomPolyhedraConfig, RoomConfig, StairsConfig,
     TableConfig,
 };
+pub use city::{Building, City, CityConfig, CityError, CityTile, RoofKind, RoofPlane};
 pub use depth::{DepthCamera, DepthCameraKind, DepthModel, MAX_EDGE_BAND};
 pub use error::SceneError;
 pub use face::{Face, Polygon3d};
