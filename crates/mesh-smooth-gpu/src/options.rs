@@ -210,7 +210,7 @@ impl BilateralOptions {
 }
 
 fn check_kernel(kernel: u32) -> Result<(), SmoothError> {
-    if kernel < 3 || kernel % 2 == 0 || kernel > MAX_KERNEL {
+    if kernel < 3 || kernel.is_multiple_of(2) || kernel > MAX_KERNEL {
         return Err(SmoothError::InvalidKernel { kernel });
     }
     Ok(())

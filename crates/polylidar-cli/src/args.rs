@@ -71,7 +71,7 @@ pub struct InputArgs {
     #[arg(long, value_name = "FILE")]
     pub config: Option<PathBuf>,
     /// Organized input: keep every N-th row and column.
-    #[arg(long, value_name = "N", default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..))]
+    #[arg(long, value_name = "N", default_value_t = 1, allow_negative_numbers = true, value_parser = clap::value_parser!(u32).range(1..))]
     pub stride: u32,
     /// Memory budget of reading the input and running the pipeline on it, e.g. 512M, 4G:
     /// what the file will need (its pixels or points, about 400 bytes each in the
@@ -135,7 +135,7 @@ pub struct ExtractArgs {
     #[arg(long, help_heading = "Output")]
     pub json: bool,
     /// Run the pipeline this many times on the loaded data; timings are medians.
-    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..), help_heading = "Output")]
+    #[arg(long, default_value_t = 1, allow_negative_numbers = true, value_parser = clap::value_parser!(u32).range(1..), help_heading = "Output")]
     pub repeat: u32,
     /// Exit with code 3 when nothing, or nearly nothing (under 1 % of the triangles), is
     /// found. Without it the exit code is 0 and the explanation is only printed.
@@ -168,7 +168,7 @@ pub struct EvaluateArgs {
     #[arg(long, value_name = "FILE")]
     pub predicted: Option<PathBuf>,
     /// Overlap both ways for a correct detection (Hoover et al.).
-    #[arg(long, default_value_t = 0.8)]
+    #[arg(long, default_value_t = 0.8, allow_negative_numbers = true)]
     pub overlap: f64,
 }
 
@@ -179,10 +179,10 @@ pub struct GenerateArgs {
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
     /// Tangential (angular) noise in millidegrees; SynPEB uses 0.5, 1, 2 and 4.
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
     pub noise_mdeg: f64,
     /// Radial noise standard deviation in metres.
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
     pub noise_radial: f64,
     /// Output cloud: .pcd (binary, organized 500 × 500) or .npy (H×W×3 float64).
     #[arg(short, long, value_name = "FILE")]
@@ -219,15 +219,27 @@ pub struct ParamArgs {
     )]
     pub lmax: Option<f64>,
     /// Drop regions with fewer triangles than this. Default: the preset's, else 20.
-    #[arg(long, help_heading = "Parameters (override the preset and --config)")]
+    #[arg(
+        long,
+        allow_negative_numbers = true,
+        help_heading = "Parameters (override the preset and --config)"
+    )]
     pub min_triangles: Option<usize>,
     /// 3D with refinement (synpeb-auto): keep a region with fewer triangles than
     /// `--min-triangles` when its area reaches this (square input units): far planes.
     /// Default: the preset's, else 0 (off).
-    #[arg(long, help_heading = "Parameters (override the preset and --config)")]
+    #[arg(
+        long,
+        allow_negative_numbers = true,
+        help_heading = "Parameters (override the preset and --config)"
+    )]
     pub min_area: Option<f64>,
     /// Drop holes with fewer vertices than this. Default: the preset's, else 3.
-    #[arg(long, help_heading = "Parameters (override the preset and --config)")]
+    #[arg(
+        long,
+        allow_negative_numbers = true,
+        help_heading = "Parameters (override the preset and --config)"
+    )]
     pub min_hole_vertices: Option<usize>,
     /// 2.5D / 3D: minimum cosine between a triangle normal and its plane's (2.5D: the up
     /// vector). Default: the preset's, else 0.9 (about 26°).
@@ -239,7 +251,11 @@ pub struct ParamArgs {
     pub norm_thresh: Option<f64>,
     /// 3D: largest point-to-plane distance of a triangle's centroid while growing a plane,
     /// in `--units` (0 disables). Default: the preset's, else 0.
-    #[arg(long, help_heading = "Parameters (override the preset and --config)")]
+    #[arg(
+        long,
+        allow_negative_numbers = true,
+        help_heading = "Parameters (override the preset and --config)"
+    )]
     pub z_thresh: Option<f64>,
     /// 2.5D: the up vector, as `0,0,1` or `0 0 1`. Default: 0,0,1.
     #[arg(
@@ -251,8 +267,12 @@ pub struct ParamArgs {
         help_heading = "Parameters (override the preset and --config)"
     )]
     pub up: Option<Vec<f64>>,
-    /// Worker threads (0: one per core). Default: 0.
-    #[arg(long, help_heading = "Parameters (override the preset and --config)")]
+    /// Worker threads (0: one per core), at most 4 per core. Default: 0.
+    #[arg(
+        long,
+        allow_negative_numbers = true,
+        help_heading = "Parameters (override the preset and --config)"
+    )]
     pub threads: Option<usize>,
     /// Organized clouds: skip the preset's Laplacian and bilateral smoothing.
     #[arg(long, help_heading = "Parameters (override the preset and --config)")]

@@ -5,14 +5,15 @@ use std::path::Path;
 
 use polylidar::misses::{Miss, MissCause, count_causes, explain_misses};
 use polylidar::{Extraction, Polylidar};
-use polylidar_io::{PcdEncoding, PointCloud};
+use polylidar_io::{PcdEncoding, PcdWriteOptions, PointCloud};
 use seg_metrics::{EvaluateOptions, Evaluation, TruthClass};
 use serde_json::json;
 use tiny_skia::{Pixmap, PremultipliedColorU8};
 
 use crate::args::{EvaluateArgs, GenerateArgs};
 use crate::input::{Input, Loaded, generate_scan, load, read_labels};
-use crate::run::{CliError, create_parent, run_once, write, write_labels};
+use crate::outputs::Outputs;
+use crate::run::{CliError, on_input, record_inputs, run_once};
 use crate::{params, report};
 
 /// Smallest SynPEB plane id in a PCD's `intensity` field; smaller values are no plane.
@@ -49,6 +50,16 @@ pub fn evaluate(args: &EvaluateArgs) -> Result<(), CliError> {
                 .to_owned(),
         });
     }
+    let mut outputs = Outputs::new();
+    record_inputs(&mut outputs, &args.input);
+    for (what, path) in [("--labels", &args.labels), ("--predicted", &args.predicted)] {
+        if let Some(path) = path {
+            outputs.input(&format!("the {what} file"), path);
+        }
+    }
+    if let Some(path) = &args.plot {
+        outputs.plan("--plot", path)?;
+    }
     let config = params::config(&args.input)?;
     let Loaded {
         input,
@@ -78,19 +89,21 @@ pub fn evaluate(args: &EvaluateArgs) -> Result<(), CliError> {
     let (extraction, predicted) = match &args.predicted {
         Some(path) => (None, read_labels(path, rows * cols)?),
         None => {
-            let extraction = run_once(&Polylidar::new(config.clone())?, &input)?;
+            let polylidar = Polylidar::new(config.clone())?;
+            let extraction = run_once(&polylidar, &input).map_err(on_input(&source))?;
             let labels = extraction.plane_labels();
             (Some(extraction), labels)
         }
     };
-    let evaluation = score(&input, &truth, &predicted, args.overlap)?;
+    let evaluation = score(&input, &truth, &predicted, args.overlap).map_err(on_input(&source))?;
     let misses = extraction
         .as_ref()
         .map(|e| explain_misses(e, &config, &truth, &evaluation, args.overlap));
     if let Some(path) = &args.plot {
         let labels = (truth.as_slice(), predicted.as_slice());
         let png = render(rows, cols, &input, labels, &evaluation, misses.as_deref())?;
-        write(path, &png)?;
+        outputs.stage("--plot", path, &png)?;
+        outputs.commit()?;
         eprintln!("{}", legend(path));
     }
     if args.json {
@@ -395,10 +408,12 @@ fn render(
 
 /// `polylidar generate`: a SynPEB-like scan written as an organized cloud plus labels.
 pub fn generate(args: &GenerateArgs) -> Result<(), CliError> {
+    let mut outputs = Outputs::new();
+    outputs.plan("-o", &args.output)?;
+    outputs.plan("--labels-out", &args.labels_out)?;
     let scan = generate_scan(args.seed, args.noise_mdeg, args.noise_radial)?;
     let (rows, cols) = (scan.rows, scan.cols);
-    create_parent(&args.output)?;
-    match args
+    let cloud = match args
         .output
         .extension()
         .and_then(|e| e.to_str())
@@ -407,19 +422,22 @@ pub fn generate(args: &GenerateArgs) -> Result<(), CliError> {
     {
         Some("pcd") => {
             let cloud = PointCloud::organized(rows, cols, scan.points)?;
-            polylidar_io::write_pcd(&args.output, &cloud, PcdEncoding::Binary)?;
+            polylidar_io::encode_pcd(&cloud, &PcdWriteOptions::new(PcdEncoding::Binary))?
         }
         Some("npy") => {
             let flat: Vec<f64> = scan.points.iter().flatten().copied().collect();
-            polylidar_io::write_npy_f64(&args.output, &[rows, cols, 3], &flat)?;
+            polylidar_io::encode_npy_f64(&[rows, cols, 3], &flat)?
         }
         _ => {
             return Err(CliError::Unsupported {
                 what: format!("{}: write .pcd or .npy", args.output.display()),
             });
         }
-    }
-    write_labels(&args.labels_out, rows, cols, &scan.labels)?;
+    };
+    let labels = polylidar_io::encode_npy_i32(&[rows, cols], &scan.labels)?;
+    outputs.stage("-o", &args.output, &cloud)?;
+    outputs.stage("--labels-out", &args.labels_out, &labels)?;
+    outputs.commit()?;
     let seen: std::collections::BTreeSet<i32> =
         scan.labels.iter().copied().filter(|&l| l >= 0).collect();
     eprintln!(

@@ -19,6 +19,7 @@ mod args;
 mod evaluate;
 mod input;
 mod mesh;
+mod outputs;
 mod params;
 mod plot;
 mod report;
@@ -37,18 +38,44 @@ use clap::Parser;
 static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
 fn main() -> ExitCode {
+    #[cfg(unix)]
+    ignore_file_size_signal();
     let cli = args::Cli::parse();
     match run::run(cli) {
         Ok(run::Outcome::Done) => ExitCode::SUCCESS,
         Ok(run::Outcome::Empty) => ExitCode::from(run::EXIT_EMPTY),
         Err(e) => {
-            eprintln!("error: {e}");
-            let mut source = std::error::Error::source(&e);
-            while let Some(cause) = source {
-                eprintln!("  caused by: {cause}");
-                source = cause.source();
-            }
+            eprint!("{}", error_text(&e));
             ExitCode::FAILURE
         }
+    }
+}
+
+/// `error: …` and a `caused by: …` line for each cause whose text the lines above do not
+/// already hold (most errors name their cause in their own message).
+fn error_text(e: &run::CliError) -> String {
+    let mut text = format!("error: {e}\n");
+    let mut source = std::error::Error::source(e);
+    while let Some(cause) = source {
+        let line = cause.to_string();
+        if !text.contains(&line) {
+            text.push_str(&format!("  caused by: {line}\n"));
+        }
+        source = cause.source();
+    }
+    text
+}
+
+/// Ignores `SIGXFSZ`, so that a write past the file size limit (`ulimit -f`) fails with an
+/// error (`EFBIG`) that the writers handle — the temporary file removed, the previous file
+/// kept — instead of killing the process with the temporary file left behind. CPython
+/// does the same at start-up.
+#[cfg(unix)]
+#[allow(unsafe_code)]
+fn ignore_file_size_signal() {
+    // SAFETY: `signal` with `SIG_IGN` installs no handler code; it runs first thing in
+    // `main`, before any other thread exists.
+    unsafe {
+        libc::signal(libc::SIGXFSZ, libc::SIG_IGN);
     }
 }

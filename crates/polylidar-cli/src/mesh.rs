@@ -15,8 +15,9 @@ use polylidar_io::{ColorImage, Format};
 
 use crate::args::InputArgs;
 use crate::input::{Input, Loaded, load};
+use crate::outputs::Outputs;
 use crate::params;
-use crate::run::{CliError, Outcome, run_once, write};
+use crate::run::{CliError, Outcome, on_input, record_inputs, run_once};
 
 /// Arguments of `polylidar mesh`.
 #[derive(Debug, Args)]
@@ -110,12 +111,29 @@ struct Frame {
 /// # Errors
 /// Unreadable input or colours, bad parameters, unwritable output.
 pub fn mesh(args: &MeshArgs) -> Result<Outcome, CliError> {
+    let mut outputs = Outputs::new();
+    record_inputs(&mut outputs, &args.input);
+    for (what, path) in [("--color", &args.color), ("--intrinsics", &args.intrinsics)] {
+        if let Some(path) = path {
+            outputs.input(&format!("the {what} file"), path);
+        }
+    }
+    let names = MeshNames::new(&args.output);
+    outputs.plan("-o", &args.output)?;
+    outputs.plan("-o (.mtl)", &names.mtl)?;
+    outputs.plan("-o (.ply)", &names.ply)?;
+    if args.texture && !args.per_plane {
+        outputs.plan("-o (.png)", &names.texture(Packing::Atlas, 0))?;
+    }
+    if let Some(plot) = &args.plot {
+        outputs.plan("--plot", plot)?;
+    }
     let stride = args.input.stride as usize;
     let path = args.input.input.as_deref();
     let (Loaded { input, source, .. }, frame) = load_input(args, path, stride)?;
     let chosen = params::config_for(&args.input, &input, None)?;
     let polylidar = Polylidar::new(chosen.config.clone())?;
-    let extraction = run_once(&polylidar, &input)?;
+    let extraction = run_once(&polylidar, &input).map_err(on_input(&source))?;
     let colors = if args.texture {
         Some(colors_for(args, path, stride, &extraction)?)
     } else {
@@ -123,7 +141,9 @@ pub fn mesh(args: &MeshArgs) -> Result<Outcome, CliError> {
     };
     let options = mesh_options(args)?;
     let started = Instant::now();
-    let meshes = extraction.planar_meshes(colors.as_deref(), &options)?;
+    let meshes = extraction
+        .planar_meshes(colors.as_deref(), &options)
+        .map_err(on_input(&source))?;
     let packing = if args.per_plane {
         Packing::PerPlane
     } else {
@@ -134,7 +154,7 @@ pub fn mesh(args: &MeshArgs) -> Result<Outcome, CliError> {
     for (k, why) in &meshes.skipped {
         eprintln!("warning: plane {k} not meshed: {why}");
     }
-    let files = write_mesh(&args.output, &meshes, &merged)?;
+    stage_mesh(&mut outputs, &names, &meshes, &merged)?;
     if let Some(plot) = &args.plot {
         let textures: Vec<_> = meshes
             .planes
@@ -147,8 +167,9 @@ pub fn mesh(args: &MeshArgs) -> Result<Outcome, CliError> {
                 message,
             },
         )?;
-        write(plot, &png)?;
+        outputs.stage("--plot", plot, &png)?;
     }
+    let files = outputs.commit()?;
     report(
         args,
         &source,
@@ -353,48 +374,69 @@ fn downsample(image: &ColorImage, stride: usize, path: &Path) -> Result<Vec<[u8;
         .collect())
 }
 
-/// Writes OBJ, MTL, PNG(s) and PLY beside `output`; returns the files written.
-fn write_mesh(
-    output: &Path,
+/// The files of `polylidar mesh -o <name>.obj`: `<name>.mtl`, `<name>.ply` and the
+/// texture(s) beside it.
+struct MeshNames {
+    /// The OBJ file.
+    obj: PathBuf,
+    /// `<name>`.
+    stem: String,
+    /// `<name>.mtl`.
+    mtl: PathBuf,
+    /// `<name>.ply`.
+    ply: PathBuf,
+}
+
+impl MeshNames {
+    fn new(output: &Path) -> Self {
+        let stem = output
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_else(|| "mesh".to_owned());
+        Self {
+            obj: output.to_path_buf(),
+            mtl: output.with_file_name(format!("{stem}.mtl")),
+            ply: output.with_file_name(format!("{stem}.ply")),
+            stem,
+        }
+    }
+
+    /// The texture's file name (as the MTL and PLY refer to it) for `plane`.
+    fn texture_name(&self, packing: Packing, plane: usize) -> String {
+        match packing {
+            Packing::Atlas => format!("{}.png", self.stem),
+            Packing::PerPlane => format!("{}_plane_{plane}.png", self.stem),
+        }
+    }
+
+    /// The texture's path for `plane`.
+    fn texture(&self, packing: Packing, plane: usize) -> PathBuf {
+        self.obj.with_file_name(self.texture_name(packing, plane))
+    }
+}
+
+/// Stages OBJ, MTL, PNG(s) and PLY ([`Outputs::stage`]).
+fn stage_mesh(
+    outputs: &mut Outputs,
+    names: &MeshNames,
     meshes: &polylidar::PlanarMeshes,
     merged: &MergedMesh,
-) -> Result<Vec<PathBuf>, CliError> {
-    let stem = output
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "mesh".to_owned());
-    let beside = |name: String| output.with_file_name(name);
-    let texture_name = |plane: usize| match merged.packing {
-        Packing::Atlas => format!("{stem}.png"),
-        Packing::PerPlane => format!("{stem}_plane_{plane}.png"),
-    };
-    let mtl_name = format!("{stem}.mtl");
-    let mut files = Vec::new();
-    let mut put = |path: PathBuf, bytes: &[u8]| -> Result<(), CliError> {
-        write(&path, bytes)?;
-        files.push(path);
-        Ok(())
-    };
-    put(
-        output.to_path_buf(),
-        export::obj_text(merged, Some(&mtl_name)).as_bytes(),
-    )?;
-    put(
-        beside(mtl_name.clone()),
-        export::mtl_text(merged, texture_name).as_bytes(),
-    )?;
+) -> Result<(), CliError> {
+    let packing = merged.packing;
+    let mtl_name = format!("{}.mtl", names.stem);
+    let obj = export::obj_text(merged, Some(&mtl_name));
+    outputs.stage("-o", &names.obj, obj.as_bytes())?;
+    let mtl = export::mtl_text(merged, |plane| names.texture_name(packing, plane));
+    outputs.stage("-o (.mtl)", &names.mtl, mtl.as_bytes())?;
     if let Some(atlas) = &merged.atlas {
-        put(
-            beside(texture_name(0)),
-            &export::png_bytes(atlas.width, atlas.height, &atlas.rgb)?,
-        )?;
+        let png = export::png_bytes(atlas.width, atlas.height, &atlas.rgb)?;
+        outputs.stage("-o (.png)", &names.texture(packing, 0), &png)?;
     } else if !merged.uv.is_empty() {
         for (plane, mesh) in &meshes.planes {
             if let Some(t) = &mesh.texture {
-                put(
-                    beside(texture_name(*plane)),
-                    &export::png_bytes(t.width, t.height, &t.rgb)?,
-                )?;
+                let png = export::png_bytes(t.width, t.height, &t.rgb)?;
+                let flag = format!("-o (plane {plane} .png)");
+                outputs.stage(&flag, &names.texture(packing, *plane), &png)?;
             }
         }
     }
@@ -411,12 +453,9 @@ fn write_mesh(
         v
     };
     let colors = export::vertex_colors(merged, &by_plane);
-    let ply_texture = (merged.packing == Packing::Atlas).then(|| texture_name(0));
-    put(
-        beside(format!("{stem}.ply")),
-        &export::ply_bytes(merged, ply_texture.as_deref(), &colors),
-    )?;
-    Ok(files)
+    let ply_texture = (packing == Packing::Atlas).then(|| names.texture_name(packing, 0));
+    let ply = export::ply_bytes(merged, ply_texture.as_deref(), &colors);
+    outputs.stage("-o (.ply)", &names.ply, &ply)
 }
 
 fn report(

@@ -2,12 +2,13 @@
 
 use std::path::{Path, PathBuf};
 
-use polylidar::output::PolygonSet;
+use polylidar::output::{PolygonSet, feature_collection};
 use polylidar::{Extraction, Polylidar, PolylidarError};
 use polylidar_io::IoError;
 
 use crate::args::{Cli, Command, ExtractArgs, InputArgs};
 use crate::input::{Input, Loaded, load_with_camera};
+use crate::outputs::Outputs;
 use crate::{evaluate, params, plot, report};
 
 /// Everything that can stop a command.
@@ -66,6 +67,70 @@ pub enum CliError {
         /// What went wrong.
         message: String,
     },
+    /// A step that ran on an input failed ([`CliError::about`]).
+    #[error("{input}: {error}")]
+    OnInput {
+        /// The input's path or the demo's name.
+        input: String,
+        /// What went wrong.
+        #[source]
+        error: Box<CliError>,
+    },
+    /// A mesh file has a degenerate triangle.
+    #[error("{input}: triangle {triangle} {vertices:?} is degenerate ({reason}): {advice}")]
+    Degenerate {
+        /// The mesh file.
+        input: String,
+        /// The triangle's index in the file.
+        triangle: usize,
+        /// Its vertex indices.
+        vertices: [u32; 3],
+        /// Why it is degenerate.
+        reason: &'static str,
+        /// What to do.
+        advice: &'static str,
+    },
+}
+
+impl CliError {
+    /// This error as one of the input `source` (its path or the demo's name): pipeline,
+    /// meshing and scoring errors say which input they are about; a degenerate triangle
+    /// of a mesh file says how to proceed. Other errors already name their file.
+    pub fn about(self, source: &str) -> CliError {
+        let on = |error: CliError| CliError::OnInput {
+            input: source.to_owned(),
+            error: Box::new(error),
+        };
+        match self {
+            CliError::Pipeline(PolylidarError::Mesh(
+                polylidar::MeshError::DegenerateTriangle {
+                    triangle,
+                    vertices,
+                    reason,
+                },
+            )) => CliError::Degenerate {
+                input: source.to_owned(),
+                triangle,
+                vertices,
+                advice: if reason.starts_with("too large") {
+                    "its coordinates are too large to compute with; move the mesh nearer the \
+                     origin or scale it down"
+                } else {
+                    "the mesh has triangles with a repeated corner or no area; remove them (in \
+                     MeshLab: Filters › Cleaning and Repairing › Remove Duplicate Faces and \
+                     Remove Zero Area Faces) and run again"
+                },
+                reason,
+            },
+            e @ (CliError::Pipeline(_) | CliError::Mesh(_) | CliError::Metrics(_)) => on(e),
+            other => other,
+        }
+    }
+}
+
+/// `|e| e.into().about(source)`, for `map_err` on the steps that run on an input.
+pub fn on_input<E: Into<CliError>>(source: &str) -> impl Fn(E) -> CliError + '_ {
+    move |e| e.into().about(source)
 }
 
 impl From<polylidar::OpcError> for CliError {
@@ -99,6 +164,17 @@ pub fn run(cli: Cli) -> Result<Outcome, CliError> {
 }
 
 fn extract(args: &ExtractArgs) -> Result<Outcome, CliError> {
+    let mut outputs = Outputs::new();
+    record_inputs(&mut outputs, &args.input);
+    for (flag, path) in [
+        ("-o", &args.output),
+        ("--plot", &args.plot),
+        ("--labels-out", &args.labels_out),
+    ] {
+        if let Some(path) = path {
+            outputs.plan(flag, path)?;
+        }
+    }
     let stride = args.input.stride as usize;
     let Loaded {
         input,
@@ -117,15 +193,22 @@ fn extract(args: &ExtractArgs) -> Result<Outcome, CliError> {
         }
         _ => None,
     };
-    let chosen = params::config_for(&args.input, &input, header_unit)?;
+    let grid = input.grid();
+    if args.labels_out.is_some() && grid.is_none() {
+        return Err(CliError::Unsupported {
+            what: format!("{source}: --labels-out needs organized input (an image grid)"),
+        });
+    }
+    let chosen = params::config_for(&args.input, &input, header_unit).map_err(on_input(&source))?;
     for warning in inapplicable(&args.input, &input) {
         eprintln!("warning: {warning}");
     }
     let polylidar = Polylidar::new(chosen.config.clone())?;
-    let extraction = run_once(&polylidar, &input)?;
+    let extraction = run_once(&polylidar, &input).map_err(on_input(&source))?;
     let mut timings = vec![extraction.diagnostics.timings.clone()];
     for _ in 1..args.repeat {
-        timings.push(run_once(&polylidar, &input)?.diagnostics.timings);
+        let again = run_once(&polylidar, &input).map_err(on_input(&source))?;
+        timings.push(again.diagnostics.timings);
     }
     let processed = !args.raw && polylidar.config().postprocess.is_some();
     if let Some(path) = &args.output {
@@ -134,7 +217,8 @@ fn extract(args: &ExtractArgs) -> Result<Outcome, CliError> {
         } else {
             PolygonSet::Extracted
         };
-        polylidar::io::write_geojson(path, &extraction, input.is_3d(), set)?;
+        let text = feature_collection(&extraction, input.is_3d(), set);
+        outputs.stage("-o", path, text.as_bytes())?;
     }
     if let Some(path) = &args.plot {
         let png = plot::render(&input, &extraction, polylidar.config().up, processed).map_err(
@@ -143,23 +227,18 @@ fn extract(args: &ExtractArgs) -> Result<Outcome, CliError> {
                 message,
             },
         )?;
-        write(path, &png)?;
+        outputs.stage("--plot", path, &png)?;
     }
-    if let Some(path) = &args.labels_out {
-        let Some((rows, cols)) = input.grid() else {
-            return Err(CliError::Unsupported {
-                what: "--labels-out needs organized input (an image grid)".to_owned(),
-            });
-        };
-        write_labels(path, rows, cols, &extraction.point_labels())?;
+    if let (Some(path), Some((rows, cols))) = (&args.labels_out, grid) {
+        let npy = polylidar_io::encode_npy_i32(&[rows, cols], &extraction.point_labels())?;
+        outputs.stage("--labels-out", path, &npy)?;
     }
+    outputs.commit()?;
     let score = match &truth {
-        Some(truth) => Some(evaluate::score(
-            &input,
-            truth,
-            &extraction.plane_labels(),
-            0.8,
-        )?),
+        Some(truth) => Some(
+            evaluate::score(&input, truth, &extraction.plane_labels(), 0.8)
+                .map_err(on_input(&source))?,
+        ),
         None => None,
     };
     let explanation = polylidar::explain::explain(&extraction, polylidar.config(), chosen.spacing);
@@ -217,17 +296,28 @@ fn inapplicable(args: &InputArgs, input: &Input) -> Vec<String> {
         .collect()
 }
 
+/// Records the files `args` reads as inputs no output may overwrite: the input, the
+/// `--config` file and a depth PNG's metadata CSV.
+pub fn record_inputs(outputs: &mut Outputs, args: &InputArgs) {
+    if let Some(path) = &args.input {
+        outputs.input("the input", path);
+        if let Ok(csv) = polylidar_io::metadata_path_for(path) {
+            outputs.input("the input's metadata CSV", &csv);
+        }
+    }
+    if let Some(path) = &args.config {
+        outputs.input("the --config file", path);
+    }
+}
+
 /// One pipeline run on the input ([`Polylidar::extract`]).
 pub fn run_once(polylidar: &Polylidar, input: &Input) -> Result<Extraction, PolylidarError> {
     polylidar.extract(input)
 }
 
-/// Writes an int32 `rows × cols` label image ([`polylidar::io::write_labels`]).
-pub fn write_labels(path: &Path, rows: usize, cols: usize, labels: &[i32]) -> Result<(), CliError> {
-    Ok(polylidar::io::write_labels(path, rows, cols, labels)?)
-}
-
-/// Writes `bytes` to `path`, creating its directory ([`polylidar::io::write_file`]).
+/// Writes `bytes` to `path` atomically, creating its directory
+/// ([`polylidar::io::write_file`]). A command with several outputs stages them in
+/// [`Outputs`] instead, so that none is replaced unless all are written.
 pub fn write(path: &Path, bytes: &[u8]) -> Result<(), CliError> {
     Ok(polylidar::io::write_file(path, bytes)?)
 }

@@ -930,10 +930,21 @@ fn smoothing_error(section: &'static str, error: SmoothError) -> PolylidarError 
             reason,
         } => PolylidarError::Config {
             field: field(name),
-            value: value.to_string(),
+            value: short_number(value),
             reason,
         },
         other => PolylidarError::Smooth(other),
+    }
+}
+
+/// A filter option's value (an `f32` widened to `f64`) as short text: `1e30`, not the
+/// 31 digits of its exact value.
+fn short_number(value: f64) -> String {
+    let single = value as f32;
+    if single != 0.0 && !(1e-4..1e6).contains(&single.abs()) {
+        format!("{single:e}")
+    } else {
+        single.to_string()
     }
 }
 
@@ -975,6 +986,11 @@ mod tests {
             });
             assert_eq!(refused(config), "laplacian.lambda", "{lambda}");
         }
+        let huge = laplacian(LaplacianConfig {
+            lambda: 1e30,
+            ..LaplacianConfig::default()
+        });
+        assert!(huge.validate().unwrap_err().to_string().contains("= 1e30 "));
         let half = laplacian(LaplacianConfig {
             lambda: 0.5,
             ..LaplacianConfig::default()
