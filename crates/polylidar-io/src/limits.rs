@@ -151,10 +151,17 @@ impl Limits {
 
 /// Reads `r` to its end, or `None` as soon as it passes `max` bytes; the buffer never
 /// holds more than `max` bytes of capacity, so a stream without end costs at most that.
+///
+/// A stream of unknown length (`expected == 0`) gets the whole `max` reserved up front:
+/// address space only, its pages are used as they are written, where growing the buffer
+/// would copy it and hold both copies at once.
 fn read_bounded(mut r: impl Read, max: u64, expected: u64) -> std::io::Result<Option<Vec<u8>>> {
     let max = usize::try_from(max).unwrap_or(usize::MAX);
     let first = usize::try_from(expected).unwrap_or(max).min(max);
-    let mut bytes: Vec<u8> = Vec::with_capacity(first.max(1));
+    let mut bytes: Vec<u8> = Vec::new();
+    if expected > 0 || bytes.try_reserve_exact(max).is_err() {
+        bytes.reserve_exact(first.max(1));
+    }
     let mut chunk = vec![0u8; 1 << 16];
     loop {
         let n = match r.read(&mut chunk) {
