@@ -159,9 +159,27 @@ class Polylidar:
     ) -> Extraction:
         """Planes and polygons of a 16-bit depth image ``(H, W)`` with ``(fx, fy, cx, cy)``
         or a 3 × 3 camera matrix."""
-    def extract_file(self, path: Union[str, PathLike]) -> Extraction:
+    def extract_file(
+        self,
+        path: Union[str, PathLike],
+        intrinsics: Union[Intrinsics, str, PathLike, None] = None,
+        depth_scale: Optional[float] = None,
+    ) -> Extraction:
         """Reads a PCD, NPY, PLY, OBJ, LAS/LAZ, CSV or depth PNG file and runs the pipeline
-        that fits it."""
+        that fits it. A depth PNG's camera: ``intrinsics`` ``(fx, fy, cx, cy)``, a 3 × 3
+        matrix or the path of an Open3D camera JSON / RealSense metadata CSV (default: the
+        ``_metadata.csv`` beside it); ``depth_scale`` metres per unit (default: the CSV's,
+        else 0.001; TUM: 0.0002)."""
+    def stream(
+        self,
+        paths: Sequence[Union[str, PathLike]],
+        intrinsics: Union[Intrinsics, str, PathLike, None] = None,
+        depth_scale: Optional[float] = None,
+        prefetch: int = 1,
+    ) -> List[Tuple[str, Extraction]]:
+        """Runs the pipeline over depth frames in order, one pipeline kept across them and
+        the next frame decoded on a loader thread; the camera as for :meth:`extract_file`.
+        Raises on the first frame that fails, naming it."""
 
 class FastGA:
     """Dominant plane normals (Fast Gaussian Accumulator), the accumulator built once."""

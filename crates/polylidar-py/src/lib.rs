@@ -222,12 +222,24 @@ impl Polylidar {
         self.wrap(result, 3, Some((rows, cols)), address)
     }
 
-    /// Reads a file (PCD, NPY, PLY, OBJ, LAS/LAZ, CSV, 16-bit depth PNG with its
-    /// ``_metadata.csv``) and runs the pipeline that fits it, as the ``polylidar extract``
-    /// command does with these parameters (without its data-derived defaults).
-    fn extract_file(&self, py: Python<'_>, path: PathBuf) -> PyResult<Extraction> {
+    /// Reads a file (PCD, NPY, PLY, OBJ, LAS/LAZ, CSV, 16-bit depth PNG) and runs the
+    /// pipeline that fits it, as the ``polylidar extract`` command does with these
+    /// parameters (without its data-derived defaults). A depth PNG's camera: ``intrinsics``
+    /// — ``(fx, fy, cx, cy)``, a 3 × 3 matrix, or the path of an Open3D camera JSON or
+    /// RealSense metadata CSV — else the RealSense ``_metadata.csv`` beside it;
+    /// ``depth_scale`` metres per unit (TUM: 0.0002), else the CSV's, else 0.001.
+    #[pyo3(signature = (path, intrinsics = None, depth_scale = None))]
+    fn extract_file(
+        &self,
+        py: Python<'_>,
+        path: PathBuf,
+        intrinsics: Option<&Bound<'_, PyAny>>,
+        depth_scale: Option<f64>,
+    ) -> PyResult<Extraction> {
+        let camera = stages::depth_camera(intrinsics, depth_scale)?;
         let result = py.detach(|| {
-            let input = Input::read(&path)?;
+            let limits = polylidar::io::Limits::default();
+            let (input, _) = Input::read_with_camera(&path, &camera, &limits)?;
             let grid = input.grid();
             let dims = if input.is_3d() { 3 } else { 2 };
             self.inner.extract(&input).map(|e| (e, grid, dims))
@@ -240,6 +252,57 @@ impl Polylidar {
             0,
             self.inner.config().postprocess.is_some(),
         ))
+    }
+
+    /// Runs the pipeline over depth frames (16-bit PNGs, or organized clouds) in the
+    /// order given, with one pipeline kept across them and the next frame read and
+    /// decoded on a loader thread (``prefetch`` frames ahead; 0: in turn) while one runs.
+    /// The camera as for :meth:`extract_file`. Returns ``[(path, Extraction)]``; raises
+    /// on the first frame that cannot be read or run, naming it.
+    #[pyo3(signature = (paths, intrinsics = None, depth_scale = None, prefetch = 1))]
+    fn stream(
+        &self,
+        py: Python<'_>,
+        paths: Vec<PathBuf>,
+        intrinsics: Option<&Bound<'_, PyAny>>,
+        depth_scale: Option<f64>,
+        prefetch: usize,
+    ) -> PyResult<Vec<(String, Extraction)>> {
+        let camera = stages::depth_camera(intrinsics, depth_scale)?;
+        let sources = paths
+            .into_iter()
+            .map(|p| (p.display().to_string(), p))
+            .collect();
+        let load = move |path: PathBuf| {
+            let limits = polylidar::io::Limits::default();
+            match Input::read_with_camera(&path, &camera, &limits)?.0 {
+                Input::Organized(cloud) => {
+                    let grid = (cloud.rows(), cloud.cols());
+                    Ok((cloud, grid))
+                }
+                other => Err(polylidar::PolylidarError::Config {
+                    field: "frame",
+                    value: format!("{} ({})", path.display(), other.kind()),
+                    reason: "a stream frame must be a depth image or an organized cloud",
+                }),
+            }
+        };
+        let options = polylidar::stream::StreamOptions::default().with_prefetch(prefetch);
+        let frames: Vec<_> = py.detach(|| {
+            self.inner
+                .stream_with(sources, load, options)
+                .map(|f| (f.name, f.extraction, f.extra))
+                .collect()
+        });
+        let postprocess = self.inner.config().postprocess.is_some();
+        frames
+            .into_iter()
+            .map(|(name, extraction, grid)| {
+                let extraction = extraction
+                    .map_err(|e| PolylidarError::new_err(format!("frame {name}: {}", error(&e))))?;
+                Ok((name, Extraction::new(extraction, 3, grid, 0, postprocess)))
+            })
+            .collect()
     }
 
     fn __repr__(&self) -> String {

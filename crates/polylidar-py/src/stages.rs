@@ -258,6 +258,35 @@ pub fn depth_cloud(
         .map_err(|e| error(&e))
 }
 
+/// The depth camera of `intrinsics` — `(fx, fy, cx, cy)`, a 3 × 3 matrix, or the path of
+/// a camera file (Open3D JSON, RealSense CSV); `None`: the RealSense CSV beside the image
+/// — and `depth_scale` metres per unit (`None`: the file's, else 0.001).
+pub fn depth_camera(
+    intrinsics: Option<&Bound<'_, PyAny>>,
+    depth_scale: Option<f64>,
+) -> PyResult<polylidar::io::DepthCamera> {
+    use polylidar::io::{CameraSource, DepthCamera};
+    let source = match intrinsics {
+        None => CameraSource::Beside,
+        Some(obj)
+            if obj.is_instance_of::<pyo3::types::PyString>() || obj.hasattr("__fspath__")? =>
+        {
+            CameraSource::File(obj.extract::<std::path::PathBuf>()?)
+        }
+        Some(obj) => CameraSource::Pinhole(camera(obj)?),
+    };
+    let camera = DepthCamera::new(source);
+    Ok(match depth_scale {
+        Some(scale) if scale.is_finite() && scale > 0.0 => camera.with_units_per_metre(1.0 / scale),
+        Some(scale) => {
+            return Err(PyValueError::new_err(format!(
+                "depth_scale {scale}: metres per depth unit, finite and > 0"
+            )));
+        }
+        None => camera,
+    })
+}
+
 /// Pinhole intrinsics from `(fx, fy, cx, cy)` or a 3 × 3 camera matrix.
 fn camera(obj: &Bound<'_, PyAny>) -> PyResult<Intrinsics> {
     let flat: Vec<f64> = match obj.extract::<Vec<f64>>() {

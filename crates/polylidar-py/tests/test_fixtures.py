@@ -147,3 +147,36 @@ def test_threads_run_at_once():
         done.set()
         t.join()
     assert during > 0
+
+def test_depth_cameras_and_stream(fixture, tmp_path):
+    icl = fixture("rgbd/icl_living_depth_00000.png")
+    tum = fixture("rgbd/tum_depth.png")
+    camera = fixture("rgbd/camera_primesense.json")
+    pl = pr.Polylidar("rgbd")
+    # An Open3D camera JSON (ICL) and numbers (TUM, 5000 units per metre) give the polygons
+    # of a RealSense CSV beside the frame.
+    results = {}
+    for png, scale, intrinsics in [(icl, 0.001, camera), (tum, 0.0002, (525, 525, 319.5, 239.5))]:
+        beside = tmp_path / f"beside_{png.stem}" / "frame.png"
+        beside.parent.mkdir()
+        beside.write_bytes(png.read_bytes())
+        (beside.parent / "frame_metadata.csv").write_text(
+            "Fx,525\nFy,525\nPPx,319.5\nPPy,239.5\nResolution x,640\nResolution y,480\n"
+            f"Depth Units,{scale}\n"
+        )
+        expected = features(pl.extract_file(beside).geojson())
+        given = pl.extract_file(png, intrinsics=intrinsics, depth_scale=scale)
+        assert_same_features(features(given.geojson()), expected)
+        results[png] = expected
+    # A stream gives the frame's result alone.
+    [(name, streamed)] = pl.stream([icl], intrinsics=str(camera))
+    assert name == str(icl)
+    assert_same_features(features(streamed.geojson()), results[icl])
+    assert streamed.point_labels().shape == (480, 640)
+    # No intrinsics: the error says so.
+    lonely = tmp_path / "lonely.png"
+    lonely.write_bytes(icl.read_bytes())
+    with pytest.raises(pr.PolylidarError, match="no camera intrinsics"):
+        pl.extract_file(lonely)
+    with pytest.raises(pr.PolylidarError, match="lonely.png"):
+        pl.stream([lonely])

@@ -7,6 +7,7 @@ mod pipeline;
 mod planar_mesh;
 mod realsense;
 mod rgbd_accuracy;
+mod rgbd_frames;
 mod scaling;
 mod shapes2d;
 mod smoothing;

@@ -164,6 +164,7 @@ pub fn run(ctx: &Ctx) -> Result<Section> {
          picture does not store its range). Those rows exercise the pipeline at the real \
          frame sizes; their geometry is only approximately metric.\n{notes}\n{PAPER_HARDWARE}"
     );
+    body.push_str(&crate::tables::rgbd_frames::section(ctx)?);
     Ok(Section {
         file: "table08_realsense.md",
         title: "Table 8 — per-stage timings on RealSense frames".to_owned(),

@@ -1,0 +1,286 @@
+//! Table 8, second part: full-resolution depth frames at camera rate (issue "RGB-D frames
+//! at camera rate"): the metric ICL-NUIM and TUM frames at 640 × 480 and the RealSense
+//! frames at 848 × 480 and 424 × 240, presets `rgbd` and `rgbd-auto`, per-stage medians
+//! over a stream of 30 frames (the available frames repeated), the memory a frame takes,
+//! and the paper's, CAPE's and the issue's figures beside them.
+
+use std::fmt::Write as _;
+use std::time::Instant;
+
+use opc_mesh::{DepthOptions, Intrinsics};
+use polylidar::{Config, OrganizedPointCloud, Polylidar};
+
+use crate::bench::Ctx;
+use crate::error::{Result, msg};
+use crate::report::Table;
+use crate::tables::pipeline::STAGES;
+use crate::timing::{Stats, median_of, ms};
+
+/// Depth range (mm) assumed for the colorized RealSense pictures (as the first part).
+const NEAR_MM: u16 = 300;
+const FAR_MM: u16 = 3000;
+
+/// Frames in the stream each row times.
+const STREAM_FRAMES: usize = 30;
+
+/// A frame size's frames and the issue's must / target (ms, 2 threads).
+struct Size {
+    name: String,
+    frames: Vec<OrganizedPointCloud>,
+    must: f64,
+    target: f64,
+}
+
+/// The frames, by size; missing fixtures are named in `notes`.
+fn sizes(ctx: &Ctx, notes: &mut String) -> Result<Vec<Size>> {
+    let mut out = Vec::new();
+    // ICL-NUIM and TUM: 16-bit depth, PrimeSense intrinsics, 1000 and 5000 units per metre.
+    let camera = ctx.fixtures.path("rgbd/camera_primesense.json");
+    let mut metric = Vec::new();
+    let mut names = Vec::new();
+    for (file, units) in [
+        ("rgbd/icl_living_depth_00000.png", 1000.0),
+        ("rgbd/icl_living_depth_00004.png", 1000.0),
+        ("rgbd/tum_depth.png", 5000.0),
+    ] {
+        let (Some(png), Some(json)) = (ctx.fixtures.path(file), camera.as_ref()) else {
+            let _ = writeln!(notes, "* `{file}` or its camera is missing: left out.");
+            continue;
+        };
+        let k = polylidar_io::read_open3d_camera(json)?;
+        let image = polylidar_io::read_depth_png(&png)?;
+        let options = DepthOptions::new(Intrinsics::new(k.fx, k.fy, k.ppx, k.ppy))
+            .with_depth_scale(1.0 / units);
+        metric.push(OrganizedPointCloud::from_depth_image(
+            &image.data,
+            image.height,
+            image.width,
+            &options,
+        )?);
+        names.push(file.trim_start_matches("rgbd/").trim_end_matches(".png"));
+    }
+    if !metric.is_empty() {
+        out.push(Size {
+            name: format!("ICL / TUM 640 × 480 ({})", names.join(", ")),
+            frames: metric,
+            must: 16.0,
+            target: 8.0,
+        });
+    }
+    // RealSense: colorized pictures at full resolution (approximate geometry).
+    for (file, must, target) in [("001_big", 20.0, 10.0), ("001_small", 5.0, 2.5)] {
+        let (Some(png), Some(csv)) = (
+            ctx.fixtures.path(&format!("realsense/{file}_depth.png")),
+            ctx.fixtures
+                .path(&format!("realsense/{file}_depth_metadata.csv")),
+        ) else {
+            let _ = writeln!(
+                notes,
+                "* `realsense/{file}_depth.png` is missing: left out."
+            );
+            continue;
+        };
+        let picture = polylidar_io::read_colorized_depth_png(&png)?;
+        let k = polylidar_io::read_realsense_intrinsics(&csv)?;
+        let depth = picture.to_depth_image(NEAR_MM, FAR_MM);
+        let options = DepthOptions::new(Intrinsics::new(k.fx, k.fy, k.ppx, k.ppy));
+        let cloud = OrganizedPointCloud::from_depth_image(
+            &depth.data,
+            depth.height,
+            depth.width,
+            &options,
+        )?;
+        out.push(Size {
+            name: format!(
+                "RealSense {} × {} ({file}_depth, colorized)",
+                depth.width, depth.height
+            ),
+            frames: vec![cloud],
+            must,
+            target,
+        });
+    }
+    Ok(out)
+}
+
+/// Resident and peak resident memory of this process (bytes), from `/proc/self/status`.
+fn rss() -> Option<(u64, u64)> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let field = |name: &str| -> Option<u64> {
+        let line = status.lines().find(|l| l.starts_with(name))?;
+        let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+        Some(kb * 1024)
+    };
+    Some((field("VmRSS:")?, field("VmHWM:")?))
+}
+
+/// The growth of this process's peak resident memory while `f` runs (Linux: the peak is
+/// reset first through `/proc/self/clear_refs`); `None` where that is not available.
+fn peak_growth<T>(f: impl FnOnce() -> T) -> (T, Option<u64>) {
+    let reset = std::fs::write("/proc/self/clear_refs", "5").is_ok();
+    let before = rss();
+    let out = f();
+    let after = rss();
+    let growth = match (reset, before, after) {
+        (true, Some((rss_before, _)), Some((_, peak))) => Some(peak.saturating_sub(rss_before)),
+        _ => None,
+    };
+    (out, growth)
+}
+
+fn mib(bytes: u64) -> String {
+    format!("{:.1} MiB", bytes as f64 / (1024.0 * 1024.0))
+}
+
+/// Renders the second part of Table 8.
+///
+/// # Errors
+/// Unreadable fixtures or a pipeline error.
+pub fn section(ctx: &Ctx) -> Result<String> {
+    let mut notes = String::new();
+    let sizes = sizes(ctx, &mut notes)?;
+    if sizes.is_empty() {
+        return Err(msg("no RGB-D frame in the fixtures"));
+    }
+    let frames = if ctx.quick { 6 } else { STREAM_FRAMES };
+    let threads = 2;
+    let mut header = vec!["frame".to_owned(), "preset".to_owned()];
+    header.extend(STAGES.iter().map(|(_, title)| (*title).to_owned()));
+    header.extend(
+        [
+            "fill",
+            "total (wall)",
+            "p90 (wall)",
+            "must / target",
+            "input cloud",
+            "peak RSS Δ",
+            "polygons",
+        ]
+        .map(str::to_owned),
+    );
+    let mut table = Table::new(header);
+    for size in &sizes {
+        for preset in ["rgbd", "rgbd-auto"] {
+            let config = Config::preset(preset)
+                .ok_or_else(|| msg(format!("no {preset} preset")))?
+                .with_threads(threads);
+            let polylidar = Polylidar::new(config)?;
+            // Warm-up: one pass over the frames (thread pool, FastGA, buffers).
+            for cloud in &size.frames {
+                drop(polylidar.extract_organized(cloud)?);
+            }
+            let (first, growth) = peak_growth(|| polylidar.extract_organized(&size.frames[0]));
+            drop(first?);
+            let mut per_stage: Vec<Vec<f64>> = vec![Vec::new(); STAGES.len() + 1];
+            let mut wall = Vec::with_capacity(frames);
+            let mut polygons = Vec::with_capacity(frames);
+            for k in 0..frames {
+                let cloud = &size.frames[k % size.frames.len()];
+                let start = Instant::now();
+                let extraction = polylidar.extract_organized(cloud)?;
+                wall.push(start.elapsed().as_secs_f64() * 1e3);
+                let timings = &extraction.diagnostics.timings;
+                for (j, stage) in STAGES.iter().map(|(s, _)| *s).chain(["fill"]).enumerate() {
+                    if let Some(d) = timings.get(stage) {
+                        per_stage[j].push(d.as_secs_f64() * 1e3);
+                    }
+                }
+                polygons.push(if extraction.postprocessed.is_empty() {
+                    extraction.polygons.len()
+                } else {
+                    extraction.postprocessed.len()
+                } as f64);
+            }
+            let p90 = nearest_rank(&wall, 0.9);
+            let wall = Stats::from_samples(wall).ok_or_else(|| msg("no timed frames"))?;
+            let mut row = vec![size.name.clone(), preset.to_owned()];
+            row.extend(
+                per_stage
+                    .iter()
+                    .map(|v| median_of(v.clone()).map_or_else(|| "–".to_owned(), ms)),
+            );
+            let points = size.frames[0].rows() * size.frames[0].cols();
+            row.extend([
+                wall.cell(),
+                ms(p90),
+                format!("≤ {} / ≤ {}", ms(size.must), ms(size.target)),
+                mib((points * 24) as u64),
+                growth.map_or_else(|| "–".to_owned(), mib),
+                median_of(polygons).map_or_else(|| "–".to_owned(), |p| format!("{p}")),
+            ]);
+            table.row(row);
+        }
+    }
+    let blank = || vec![String::new(); STAGES.len() + 1];
+    let mut paper = vec![
+        "paper: D435i 424 × 240 after SDK filters (Basement / Main Floor means)".to_owned(),
+        "Table 7 (GPU smoothing + 4 threads)".to_owned(),
+    ];
+    paper.extend(
+        [0.4, 0.4, 0.5, 1.25, 1.65, 4.95]
+            .map(ms)
+            .into_iter()
+            .chain([String::new()]),
+    );
+    paper.extend([
+        "11.4 / 11.7 (incl. 2.4 SDK filters)".to_owned(),
+        String::new(),
+        String::new(),
+        String::new(),
+        String::new(),
+        String::new(),
+    ]);
+    table.row(paper);
+    let mut cape = vec![
+        "CAPE (Proença & Gao 2018), 640 × 480".to_owned(),
+        "planes + cylinders, no polygons; 1 core".to_owned(),
+    ];
+    cape.extend(blank());
+    cape.extend(
+        ["≈ 3.3 (≈ 300 Hz)", "", "", "", "", ""]
+            .into_iter()
+            .map(str::to_owned),
+    );
+    table.row(cape);
+
+    let mut body = String::new();
+    let _ = writeln!(
+        body,
+        "\n## Full-resolution depth frames (camera rate)\n\n\
+         `Polylidar::extract_organized` on {threads} threads over a stream of {frames} frames \
+         (the frames of a size repeated in turn; one warm-up pass first), one `Polylidar` kept \
+         across the stream, the frame already in memory. Stage columns are medians over the \
+         stream (ms); `fill` is rgbd-auto's filling of missing returns. Total is the median \
+         wall time of a frame (min–max), p90 its 90th percentile. *Input cloud* is the \
+         organized cloud of one frame (24 bytes a pixel); *peak RSS Δ* is how far one frame \
+         raised the process's peak resident memory above what it held before (Linux \
+         `VmHWM` after resetting it through `/proc/self/clear_refs`): the frame's mesh, \
+         normals, smoothed copies and polygons, less the buffers the pipeline keeps from \
+         earlier frames. *Must / target* are the issue's (2 threads, CPU only).\n"
+    );
+    body.push_str(&table.render());
+    let _ = writeln!(
+        body,
+        "\n* The ICL-NUIM and TUM frames are 16-bit metric depth with the PrimeSense \
+         intrinsics (`rgbd/camera_primesense.json`; TUM at 5000 units per metre). The \
+         848 × 480 and 424 × 240 rows use the RealSense *colorized* pictures mapped to \
+         {NEAR_MM}–{FAR_MM} mm (see above): real frame sizes, approximate geometry.\n\
+         * CAPE's figure is from its paper (640 × 480 Kinect frames, one core of its \
+         authors' machine); it finds planes and cylinders as cell-grid segments and makes \
+         no polygons, so it is context, not a like-for-like comparison. The paper's row is \
+         Polylidar3D's Table 8 (stage means of whole recorded scenes, smoothing on the GPU, \
+         4 threads for planes and polygons).\n{notes}"
+    );
+    Ok(body)
+}
+
+/// The `p`-th quantile (0–1) of `samples`, nearest rank.
+fn nearest_rank(samples: &[f64], p: f64) -> f64 {
+    let mut sorted = samples.to_vec();
+    sorted.sort_by(f64::total_cmp);
+    if sorted.is_empty() {
+        return f64::NAN;
+    }
+    let rank = ((p * sorted.len() as f64).ceil() as usize).clamp(1, sorted.len());
+    sorted[rank - 1]
+}
