@@ -305,17 +305,12 @@ impl TileGrid {
         tiles
     }
 
-    /// How close a coordinate must be to a grid line to be moved onto it after a boolean
-    /// operation (which rounds to its own integer grid, about a billionth of its extent).
-    fn snap_distance(&self) -> f64 {
-        1e-7 * (self.size + 2.0 * self.margin)
-    }
-
-    /// `c` with every coordinate within [`Self::snap_distance`] of a grid line moved onto
-    /// the line: the pieces of one surface on both sides of a seam then share its
+    /// `c` with every coordinate within `eps` of a grid line moved onto the line. A boolean
+    /// operation rounds to its own integer grid (about a billionth of its extent), so
+    /// after one the coordinates of a seam are snapped back onto it with `eps` a hundred
+    /// times that: the pieces of one surface on both sides of a seam then share the seam's
     /// coordinates exactly.
-    fn snap(&self, c: Coord<f64>) -> Coord<f64> {
-        let eps = self.snap_distance();
+    fn snap(&self, c: Coord<f64>, eps: f64) -> Coord<f64> {
         let onto = |v: f64, o: f64, line: &dyn Fn(i64) -> f64| {
             let k = ((v - o) / self.size).round();
             if !k.is_finite() {
@@ -330,10 +325,21 @@ impl TileGrid {
         }
     }
 
-    fn snap_polygon(&self, polygon: Polygon<f64>) -> Polygon<f64> {
+    /// The parts of the result of a boolean operation, snapped onto the grid lines (see
+    /// [`Self::snap`]) with a distance of 10⁻⁷ of the result's extent.
+    fn snap_parts(&self, parts: MultiPolygon<f64>) -> Vec<Polygon<f64>> {
+        let eps = geo::BoundingRect::bounding_rect(&parts)
+            .map_or(0.0, |r| 1e-7 * (r.width() + r.height()));
+        parts
+            .into_iter()
+            .map(|p| self.snap_polygon(p, eps))
+            .collect()
+    }
+
+    fn snap_polygon(&self, polygon: Polygon<f64>, eps: f64) -> Polygon<f64> {
         let ring = |r: &LineString<f64>| -> LineString<f64> {
             let mut coords: Vec<Coord<f64>> = Vec::with_capacity(r.0.len());
-            for c in r.coords().map(|&c| self.snap(c)) {
+            for c in r.coords().map(|&c| self.snap(c, eps)) {
                 if coords.last() != Some(&c) {
                     coords.push(c);
                 }
@@ -495,7 +501,7 @@ pub fn extract_tile(
         Err(PolylidarError::Mesh(_)) => return Ok(set),
         Err(source) => return Err(TileError::Extract { tile, source }),
     };
-    let core = grid.core(tile).to_polygon();
+    let core = grid.core(tile);
     let ring = |points: &[[f64; 3]]| -> LineString<f64> {
         points.iter().map(|p| Coord { x: p[0], y: p[1] }).collect()
     };
@@ -512,8 +518,27 @@ pub fn extract_tile(
         if normal[2] <= 0.0 {
             continue;
         }
-        for part in footprint.intersection(&core) {
-            let part = grid.snap_polygon(part);
+        // Clipped to the core as far as the polygon reaches: the operation's integer grid
+        // then follows the polygon's extent, not the tile's.
+        let Some(bb) = geo::BoundingRect::bounding_rect(&footprint) else {
+            continue;
+        };
+        let pad = 0.01 * (bb.width() + bb.height());
+        let (lo, hi) = (
+            [
+                core.min().x.max(bb.min().x - pad),
+                core.min().y.max(bb.min().y - pad),
+            ],
+            [
+                core.max().x.min(bb.max().x + pad),
+                core.max().y.min(bb.max().y + pad),
+            ],
+        );
+        if !(lo[0] < hi[0] && lo[1] < hi[1]) {
+            continue;
+        }
+        let clip = Rect::new(Coord { x: lo[0], y: lo[1] }, Coord { x: hi[0], y: hi[1] });
+        for part in grid.snap_parts(footprint.intersection(&clip.to_polygon())) {
             let area = part.unsigned_area();
             if area > 0.0 {
                 set.polygons.push(TilePolygon {
@@ -697,10 +722,7 @@ fn unite<'a>(grid: &TileGrid, pieces: impl Iterator<Item = &'a TilePolygon>) -> 
     // the pieces still to come exact.
     let first = MultiPolygon::new(vec![pieces[0].footprint.clone()]);
     let union = pieces[1..].iter().fold(first, |acc, p| {
-        acc.union(&p.footprint)
-            .into_iter()
-            .map(|part| grid.snap_polygon(part))
-            .collect()
+        MultiPolygon::new(grid.snap_parts(acc.union(&p.footprint)))
     });
     union
         .into_iter()
