@@ -30,7 +30,10 @@
 //!
 //! The target keeps its name; a symbolic link is followed and the file it points to is
 //! replaced. A read-only target is refused (as a plain write would), and so is a directory.
-//! The temporary file is named `.<name>.<process id>.<n>.tmp`.
+//! The temporary file is named `.<name>.<process id>.<n>.tmp`. A process killed outright
+//! during a write (`SIGKILL`, an unhandled signal) cannot remove its temporary file; on
+//! Linux the next write to the same target removes those of processes that no longer
+//! exist.
 
 use std::fs::{File, OpenOptions};
 use std::io::{self, BufWriter, Write};
@@ -214,6 +217,7 @@ fn create_temp(target: &Path) -> io::Result<(File, PathBuf)> {
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default();
+    remove_stale(dir, &name);
     let permissions = std::fs::metadata(target).ok().map(|m| m.permissions());
     let mut last = None;
     for _ in 0..NAME_ATTEMPTS {
@@ -235,6 +239,37 @@ fn create_temp(target: &Path) -> io::Result<(File, PathBuf)> {
         }
     }
     Err(last.unwrap_or_else(|| io::Error::other("no free temporary file name")))
+}
+
+/// Removes the temporary files `.<name>.<pid>.<n>.tmp` in `dir` whose process no longer
+/// exists (Linux, where `/proc/<pid>` tells; elsewhere nothing is removed). A process
+/// that still runs keeps its files, whatever they are for.
+fn remove_stale(dir: &Path, name: &str) {
+    let proc = Path::new("/proc");
+    if !proc.join("self").exists() {
+        return;
+    }
+    let prefix = format!(".{name}.");
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return;
+    };
+    for entry in entries.flatten() {
+        let file = entry.file_name();
+        let Some(middle) = file
+            .to_str()
+            .and_then(|f| f.strip_prefix(&prefix))
+            .and_then(|f| f.strip_suffix(".tmp"))
+        else {
+            continue;
+        };
+        let Some((pid, n)) = middle.split_once('.') else {
+            continue;
+        };
+        let ours = pid.parse::<u32>().is_ok() && n.parse::<u64>().is_ok();
+        if ours && !proc.join(pid).exists() {
+            let _ = std::fs::remove_file(entry.path());
+        }
+    }
 }
 
 /// Flushes the directory entry of a renamed file (Unix; elsewhere the rename stands as
@@ -363,6 +398,28 @@ mod tests {
                 .is_symlink()
         );
         assert_eq!(std::fs::read(&real).unwrap(), b"new");
+    }
+
+    #[cfg(target_os = "linux")]
+    #[test]
+    fn temporaries_of_dead_processes_are_removed_by_the_next_write() {
+        let dir = scratch("stale");
+        let path = dir.join("out.json");
+        // Above Linux's largest process id (2^22): no such process.
+        let dead = dir.join(".out.json.4294967295.7.tmp");
+        let alive = dir.join(format!(".out.json.{}.999999.tmp", std::process::id()));
+        let other = dir.join(".other.json.4294967295.7.tmp");
+        for p in [&dead, &alive, &other] {
+            std::fs::write(p, b"partial").unwrap();
+        }
+        write_atomic(&path, b"new").unwrap();
+        let mut expected = vec![
+            format!(".out.json.{}.999999.tmp", std::process::id()),
+            ".other.json.4294967295.7.tmp".to_owned(),
+            "out.json".to_owned(),
+        ];
+        expected.sort();
+        assert_eq!(entries(&dir), expected);
     }
 
     #[cfg(unix)]
