@@ -90,6 +90,9 @@ pub struct StagedFile {
     requested: PathBuf,
     /// Whether the rename happened (nothing to remove then).
     committed: bool,
+    /// Whether the caller wrote through its own handle ([`StagedFile::create`]), so the
+    /// file is flushed to disk at [`StagedFile::commit`].
+    sync_on_commit: bool,
 }
 
 impl StagedFile {
@@ -118,6 +121,7 @@ impl StagedFile {
             target,
             requested,
             committed: false,
+            sync_on_commit: false,
         };
         let mut writer = BufWriter::new(file);
         write(&mut writer)?;
@@ -126,6 +130,40 @@ impl StagedFile {
             .map_err(io::IntoInnerError::into_error)?;
         file.sync_all()?;
         Ok(staged)
+    }
+
+    /// Creates the empty temporary file beside `path` and returns it with its handle, for
+    /// writers that must own their file (one that seeks back to patch a header, say).
+    /// Write through the handle, close it, then [`StagedFile::commit`] flushes the file to
+    /// disk and renames it; dropping the staged file instead removes it.
+    ///
+    /// ```
+    /// use std::io::Write;
+    /// use polylidar_io::atomic::StagedFile;
+    /// let path = std::env::temp_dir().join(format!("polylidar-io-atomic-create-{}.txt", std::process::id()));
+    /// let (staged, mut file) = StagedFile::create(&path)?;
+    /// file.write_all(b"owned")?;
+    /// drop(file);
+    /// staged.commit()?;
+    /// assert_eq!(std::fs::read(&path)?, b"owned");
+    /// # std::fs::remove_file(&path)?;
+    /// # Ok::<(), std::io::Error>(())
+    /// ```
+    ///
+    /// # Errors
+    /// As [`write_atomic`].
+    pub fn create(path: impl AsRef<Path>) -> io::Result<(Self, File)> {
+        let requested = path.as_ref().to_path_buf();
+        let target = resolve_target(&requested)?;
+        let (file, temp) = create_temp(&target)?;
+        let staged = Self {
+            temp,
+            target,
+            requested,
+            committed: false,
+            sync_on_commit: true,
+        };
+        Ok((staged, file))
     }
 
     /// The path the file will have (as given, before links are resolved).
@@ -139,6 +177,9 @@ impl StagedFile {
     /// The system's error when the rename fails; the temporary file is then removed and
     /// the target unchanged.
     pub fn commit(mut self) -> io::Result<()> {
+        if self.sync_on_commit {
+            File::open(&self.temp)?.sync_all()?;
+        }
         std::fs::rename(&self.temp, &self.target)?;
         self.committed = true;
         sync_directory(&self.target);
@@ -358,6 +399,25 @@ mod tests {
         assert_eq!(std::fs::read(&a).unwrap(), b"A");
         assert_eq!(std::fs::read(&b).unwrap(), b"B");
         assert_eq!(entries(&dir), ["a", "b"]);
+    }
+
+    #[test]
+    fn a_created_file_replaces_the_target_only_on_commit() {
+        let dir = scratch("create");
+        let path = dir.join("cloud.las");
+        std::fs::write(&path, b"old").unwrap();
+        let (staged, mut file) = StagedFile::create(&path).unwrap();
+        file.write_all(b"half a file").unwrap();
+        drop(file);
+        drop(staged);
+        assert_eq!(std::fs::read(&path).unwrap(), b"old");
+        assert_eq!(entries(&dir), ["cloud.las"]);
+        let (staged, mut file) = StagedFile::create(&path).unwrap();
+        file.write_all(b"new").unwrap();
+        drop(file);
+        staged.commit().unwrap();
+        assert_eq!(std::fs::read(&path).unwrap(), b"new");
+        assert_eq!(entries(&dir), ["cloud.las"]);
     }
 
     #[test]

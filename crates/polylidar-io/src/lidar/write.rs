@@ -65,7 +65,10 @@ pub fn write_las(
     let header =
         header_for(points, classification, point_source_id, options, compress).map_err(error)?;
     let las_err = |e: las::Error| ErrorKind::Decoder(e.to_string());
-    let file = std::fs::File::create(path).map_err(|e| error(ErrorKind::Os(e)))?;
+    // Written beside the target and renamed over it at the end (crate::atomic): a failed
+    // write leaves the old file as it was.
+    let (staged, file) =
+        crate::atomic::StagedFile::create(path).map_err(|e| error(ErrorKind::Os(e)))?;
     let mut writer =
         las::Writer::new(std::io::BufWriter::new(file), header).map_err(|e| error(las_err(e)))?;
     for (i, p) in points.iter().enumerate() {
@@ -81,7 +84,9 @@ pub fn write_las(
         };
         writer.write_point(point).map_err(|e| error(las_err(e)))?;
     }
-    writer.close().map_err(|e| error(las_err(e)))
+    writer.close().map_err(|e| error(las_err(e)))?;
+    drop(writer);
+    staged.commit().map_err(|e| error(ErrorKind::Os(e)))
 }
 
 /// The header of a file of `points`, after checking what [`write_las`] documents.
