@@ -2,8 +2,9 @@
 # The Python package's tests, run by .ci/test.sh after the cargo tests: builds the
 # polylidar_rs wheel with maturin (dev profile, --locked) into a fresh virtual environment
 # under the cargo target folder ($CARGO_TARGET_DIR or target/py-venv), installs it with
-# numpy, pytest and shapely from PyPI, and runs pytest on crates/polylidar-py/tests with
-# the `polylidar` command built by cargo (for the CLI comparison tests). Its output is
+# numpy, pytest, shapely and dask[distributed] from PyPI, and runs pytest on
+# crates/polylidar-py/tests with the `polylidar` command built by cargo (for the CLI
+# comparison tests). Its output is
 # also written to the file named by $1, for the summary.
 #
 # No Python ≥ 3.9, no venv module or no package index: a note, and the tests are skipped
@@ -44,8 +45,8 @@ rm -rf "$venv"
 "$python" -m venv "$venv" >/dev/null 2>&1 ||
     skip "$python -m venv failed (on Debian/Ubuntu install python3-venv)"
 "$venv/bin/python" -m pip install --quiet --disable-pip-version-check \
-    "maturin>=1.9.4,<2" numpy pytest shapely >/dev/null 2>&1 ||
-    skip "pip could not install maturin, numpy, pytest and shapely (no package index?)"
+    "maturin>=1.9.4,<2" numpy pytest shapely "dask[distributed]" >/dev/null 2>&1 ||
+    skip "pip could not install maturin, numpy, pytest, shapely and dask[distributed] (no package index?)"
 
 wheels="$target/py-wheels"
 rm -rf "$wheels"

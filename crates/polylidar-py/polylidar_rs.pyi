@@ -240,3 +240,41 @@ def load(path: Union[str, PathLike]) -> Dict[str, Any]:
 
 def presets() -> List[str]:
     """The names accepted as ``preset``."""
+
+# Tiles (the Dask front, polylidar_rs.dask): a grid is (x0, y0, size, margin, cols, rows);
+# tile results and merges are encoded tile sets (bytes).
+
+def extract_tile(
+    points: FloatArray, grid: Tuple[float, float, float, float, int, int], col: int, row: int,
+    preset: Optional[str] = None, **params: Any,
+) -> bytes:
+    """The 2.5D polygons of tile ``(col, row)`` from the points in its window, clipped to
+    its core."""
+
+def extract_tile_files(
+    paths: Sequence[Union[str, PathLike]], grid: Tuple[float, float, float, float, int, int],
+    col: int, row: int, preset: Optional[str] = None, **params: Any,
+) -> bytes:
+    """As :func:`extract_tile`, reading the window's points from LAS/LAZ files."""
+
+def merge_tiles(
+    parts: Sequence[bytes], preset: Optional[str] = None, max_angle_deg: Optional[float] = None,
+    max_offset: Optional[float] = None, **params: Any,
+) -> bytes:
+    """Merges tile results across their seams (one polygon per plane cut by seams)."""
+
+def tile_polygons(data: bytes, with_z: bool = True) -> Dict[str, Any]:
+    """``{"wkb", "normal", "offset", "area", "tiles", "cover"}`` of an encoded tile set."""
+
+def tiles_geojson(data: bytes, with_z: bool = True) -> str:
+    """An encoded tile set's polygons as a GeoJSON FeatureCollection."""
+
+def las_bounds(path: Union[str, PathLike]) -> Tuple[Tuple[float, float, float], Tuple[float, float, float], int]:
+    """A LAS/LAZ file's box and point count, from its header."""
+
+def synth_city(
+    out_dir: Union[str, PathLike], points: int = 1_000_000, tile: float = 250.0, seed: int = 1,
+    density: float = 8.0, laz: bool = True,
+) -> List[str]:
+    """Writes the synthetic city (synthscan) as LAS/LAZ tiles with ``.labels.npy`` ground
+    truth; the file paths."""

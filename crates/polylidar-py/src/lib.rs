@@ -10,6 +10,7 @@ mod arrays;
 mod config;
 mod result;
 mod stages;
+mod tiles;
 
 use std::path::PathBuf;
 
@@ -367,6 +368,7 @@ fn polylidar_rs(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add("PolylidarError", m.py().get_type::<PolylidarError>())?;
     m.add_class::<Polylidar>()?;
+    tiles::register(m)?;
     m.add_class::<Extraction>()?;
     m.add_class::<Polygon>()?;
     m.add_class::<Mesh>()?;

@@ -1,0 +1,1 @@
+../../polylidar_rs.pyi
