@@ -184,10 +184,13 @@ fn read_bounded(mut r: impl Read, max: u64, expected: u64) -> std::io::Result<Op
 }
 
 /// The default budget: [`DEFAULT_MAX_MEMORY`] or half of [`physical_memory`], whichever is
-/// smaller.
+/// smaller (read once per process).
 pub fn default_max_memory() -> u64 {
-    physical_memory().map_or(DEFAULT_MAX_MEMORY, |total| {
-        DEFAULT_MAX_MEMORY.min(total / 2)
+    static DEFAULT: std::sync::OnceLock<u64> = std::sync::OnceLock::new();
+    *DEFAULT.get_or_init(|| {
+        physical_memory().map_or(DEFAULT_MAX_MEMORY, |total| {
+            DEFAULT_MAX_MEMORY.min(total / 2)
+        })
     })
 }
 
