@@ -72,7 +72,8 @@ pub struct Diagnostics {
     /// Inputs of which nothing was left after simplification and buffering (e.g. eroded
     /// away by β_neg).
     pub vanished: u32,
-    /// Parts dropped because their area was below γ (`min_area`).
+    /// Parts dropped because their area was below γ (`min_area`), and inputs dropped
+    /// before processing because no part of them could reach it (counted once each).
     pub dropped_by_area: u32,
     /// Holes dropped because their area was below δ (`min_hole_area`).
     pub holes_dropped_by_area: u32,

@@ -3,7 +3,7 @@
 
 use geo::algorithm::bool_ops::FillRule;
 use geo::algorithm::buffer::{BufferStyle, LineJoin};
-use geo::{Area, BooleanOps, Buffer, Coord, LineString, MultiPolygon, OpType, Polygon};
+use geo::{Area, BooleanOps, Buffer, ConvexHull, Coord, LineString, MultiPolygon, OpType, Polygon};
 
 use crate::config::{BufferJoin, PostprocessConfig};
 use crate::diagnostics::{Diagnostics, DropReason};
@@ -35,6 +35,10 @@ pub(crate) fn process_polygon(
             return Vec::new();
         }
     };
+    if config.min_area > 0.0 && area_bound(&polygon, config) < config.min_area {
+        diag.dropped_by_area += 1;
+        return Vec::new();
+    }
     let mut parts = if fast_valid(&polygon, &mut scratch.valid) {
         vec![polygon]
     } else {
@@ -77,6 +81,43 @@ pub(crate) fn process_polygon(
     }
     diag.output_polygons += out.len() as u32;
     out
+}
+
+/// An upper bound on the area of every part post-processing can make of `polygon`, for
+/// dropping at once what cannot reach `min_area` (most polygons of a depth frame, and the
+/// buffers are the expensive steps). The convex hull `H` of the shell contains the
+/// polygon, its simplification (Ramer–Douglas–Peucker keeps a subset of the vertices) and
+/// its repair (the region inside the shell); the outward buffer reaches at most `r` from
+/// it, so it stays inside `H` grown by `r`, whose area is
+/// `area(H) + perimeter(H) · r + π r²` (Steiner's formula for convex sets); the inward
+/// buffer only removes area.
+fn area_bound(polygon: &Polygon<f64>, config: &PostprocessConfig) -> f64 {
+    let hull = polygon.exterior().convex_hull();
+    let ring = &hull.exterior().0;
+    let perimeter: f64 = ring
+        .windows(2)
+        .map(|w| (w[1].x - w[0].x).hypot(w[1].y - w[0].y))
+        .sum();
+    let r = config.beta_pos * buffer_reach(config.buffer_join);
+    let bound = hull.unsigned_area() + perimeter * r + std::f64::consts::PI * r * r;
+    // Rounding in the buffers' arithmetic is far below this margin.
+    bound * (1.0 + 1e-9) + f64::EPSILON
+}
+
+/// How far an outward buffer of distance 1 with `join` reaches from the polygon at most:
+/// 1 for bevels, the circumscribed arc's vertices for round joins, the longest miter kept
+/// for miter joins (angles clamped as the offsetter clamps them).
+fn buffer_reach(join: BufferJoin) -> f64 {
+    use std::f64::consts::PI;
+    match join {
+        BufferJoin::Round { max_angle } => {
+            1.0 / (max_angle.clamp(0.01 * PI, 0.25 * PI) / 2.0).cos()
+        }
+        BufferJoin::Miter { min_angle } => {
+            1.0 / (min_angle.clamp(0.01 * PI, 0.99 * PI) / 2.0).sin()
+        }
+        BufferJoin::Bevel => 1.0,
+    }
 }
 
 /// Checks coordinates, removes repeated consecutive vertices, closes rings, removes holes

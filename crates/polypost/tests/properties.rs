@@ -4,7 +4,8 @@
 
 use geo::{Area, Validation};
 use polypost::{
-    Coord, DropReason, LineString, Plane, Polygon, Polygon3, PostProcessor, PostprocessConfig,
+    BufferJoin, Coord, DropReason, LineString, Plane, Polygon, Polygon3, PostProcessor,
+    PostprocessConfig,
 };
 use proptest::prelude::*;
 use proptest::strategy::ValueTree;
@@ -147,6 +148,15 @@ fn config() -> impl Strategy<Value = PostprocessConfig> {
         )
 }
 
+/// Every corner style of the buffers, with angles across their clamped ranges and past them.
+fn join() -> impl Strategy<Value = BufferJoin> {
+    prop_oneof![
+        (0.01..1.2f64).prop_map(|max_angle| BufferJoin::Round { max_angle }),
+        (0.01..3.1f64).prop_map(|min_angle| BufferJoin::Miter { min_angle }),
+        Just(BufferJoin::Bevel),
+    ]
+}
+
 fn unit_normal() -> impl Strategy<Value = [f64; 3]> {
     (-1.0..1.0f64, 0.0..std::f64::consts::TAU).prop_map(|(z, phi)| {
         let r = (1.0 - z * z).sqrt();
@@ -191,6 +201,26 @@ proptest! {
         if s.valid_by_construction {
             prop_assert!(s.polygon.is_valid());
         }
+    }
+
+    /// γ only filters: the parts kept with `min_area` γ are exactly the parts of the run
+    /// without it whose area reaches γ (also when γ drops a polygon before processing,
+    /// by the bound on what its buffers can reach, whatever the corner style).
+    #[test]
+    fn min_area_only_filters_parts(
+        s in shape(), cfg in config(), min_area in 0.0..60.0f64, join in join(),
+    ) {
+        let cfg = cfg.with_min_hole_area(0.0).with_buffer_join(join);
+        let all = PostProcessor::new(cfg.with_min_area(0.0)).unwrap().process_2d(&s.polygon);
+        let kept = PostProcessor::new(cfg.with_min_area(min_area)).unwrap().process_2d(&s.polygon);
+        let expected: Vec<&Polygon<f64>> = all
+            .polygons
+            .iter()
+            .map(|p| &p.polygon)
+            .filter(|p| p.unsigned_area() >= min_area)
+            .collect();
+        let got: Vec<&Polygon<f64>> = kept.polygons.iter().map(|p| &p.polygon).collect();
+        prop_assert_eq!(got, expected);
     }
 
     #[test]
