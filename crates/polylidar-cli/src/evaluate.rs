@@ -76,6 +76,9 @@ pub fn evaluate(args: &EvaluateArgs) -> Result<(), CliError> {
             what: format!("{source}: `evaluate` needs organized input (an image grid)"),
         });
     };
+    if args.predicted.is_none() {
+        params::check_kernels(&config, &input, &source)?;
+    }
     let truth = match (&args.labels, truth, args.input.input.as_deref()) {
         (Some(path), _, _) => read_labels(path, rows * cols)?,
         (None, Some(truth), _) => truth,

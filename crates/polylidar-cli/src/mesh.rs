@@ -132,6 +132,7 @@ pub fn mesh(args: &MeshArgs) -> Result<Outcome, CliError> {
     let path = args.input.input.as_deref();
     let (Loaded { input, source, .. }, frame) = load_input(args, path, stride)?;
     let chosen = params::config_for(&args.input, &input, None)?;
+    params::check_kernels(&chosen.config, &input, &source)?;
     let polylidar = Polylidar::new(chosen.config.clone())?;
     let extraction = run_once(&polylidar, &input).map_err(on_input(&source))?;
     let colors = if args.texture {

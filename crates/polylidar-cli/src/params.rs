@@ -199,6 +199,56 @@ pub fn config_for(
     })
 }
 
+/// Refuses a smoothing kernel wider than an organized input's image (`source` names the
+/// input): the filters leave the pixels within `kernel / 2` of the edge as they are, so
+/// such a kernel smooths nothing. The Laplacian works on the `rows × cols` pixels, the
+/// bilateral filter on the `(rows − 1) × (cols − 1)` cells between them.
+///
+/// # Errors
+/// [`CliError::Unsupported`] naming the input, the kernel, the image and what to do.
+pub fn check_kernels(config: &Config, input: &Input, source: &str) -> Result<(), CliError> {
+    let Input::Organized(cloud) = input else {
+        return Ok(());
+    };
+    let (rows, cols) = (cloud.rows(), cloud.cols());
+    let filters = [
+        (
+            "laplacian.kernel",
+            config.laplacian.map(|l| l.kernel),
+            rows,
+            cols,
+            "pixels",
+        ),
+        (
+            "bilateral.kernel",
+            config.bilateral.map(|b| b.kernel),
+            rows.saturating_sub(1),
+            cols.saturating_sub(1),
+            "cells",
+        ),
+    ];
+    for (field, kernel, r, c, what) in filters {
+        if let Some(k) = kernel
+            && (k as usize > r || k as usize > c)
+        {
+            // The largest odd kernel that still smooths something.
+            let fits = r.min(c).saturating_sub(1 - r.min(c) % 2);
+            let remedy = if fits >= 3 {
+                format!("use a kernel of at most {fits} (in --config) or --no-smoothing")
+            } else {
+                "the image is too small to smooth; use --no-smoothing".to_owned()
+            };
+            return Err(CliError::Unsupported {
+                what: format!(
+                    "{source}: {field} {k} is wider than the image's {r} × {c} {what}, so \
+                     nothing would be smoothed; {remedy}"
+                ),
+            });
+        }
+    }
+    Ok(())
+}
+
 /// A length with 3 significant digits and its unit: `4.07 ft`.
 pub fn length(value: f64, unit: LengthUnit) -> String {
     format!("{} {unit}", significant(value))

@@ -200,6 +200,7 @@ fn extract(args: &ExtractArgs) -> Result<Outcome, CliError> {
         });
     }
     let chosen = params::config_for(&args.input, &input, header_unit).map_err(on_input(&source))?;
+    params::check_kernels(&chosen.config, &input, &source)?;
     for warning in inapplicable(&args.input, &input) {
         eprintln!("warning: {warning}");
     }

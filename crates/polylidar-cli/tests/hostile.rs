@@ -236,6 +236,27 @@ fn meaningless_smoothing_and_fastga_values_are_refused_with_the_config() {
 }
 
 #[test]
+fn a_smoothing_kernel_wider_than_the_image_is_refused() {
+    let dir = scratch("kernel");
+    let cloud = dir.join("tiny.npy");
+    let points: Vec<f64> = (0..16)
+        .flat_map(|i| [f64::from(i % 4), f64::from(i / 4), 1.0])
+        .collect();
+    polylidar_io::write_npy_f64(&cloud, &[4, 4, 3], &points).unwrap();
+    let err = failed(&polylidar(&["extract", s(&cloud), "--preset", "synpeb"]));
+    assert!(
+        err.contains("tiny.npy: laplacian.kernel 5 is wider than the image's 4 × 4 pixels"),
+        "{err}"
+    );
+    assert!(
+        err.contains("at most 3 (in --config) or --no-smoothing"),
+        "{err}"
+    );
+    let out = polylidar(&["extract", s(&cloud), "--preset", "synpeb", "--no-smoothing"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+}
+
+#[test]
 fn errors_are_printed_once() {
     let dir = scratch("once");
     let missing = dir.join("missing.csv");
