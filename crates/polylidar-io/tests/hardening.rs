@@ -254,3 +254,27 @@ fn las_errors_name_the_header_field_or_the_records() {
         );
     }
 }
+
+/// Found by `scripts/fuzz.sh` (target `las`): a LAS 1.4 file whose header size says 227
+/// bytes still has its extended VLRs read by `las`, and one claiming 2⁴⁸ bytes made it
+/// abort on allocation. The claim is now checked whatever the header size.
+#[test]
+fn an_extended_vlr_of_a_short_14_header_is_checked() {
+    let mut b = vec![0u8; 420];
+    b[..4].copy_from_slice(b"LASF");
+    (b[24], b[25]) = (1, 4);
+    b[94..96].copy_from_slice(&227u16.to_le_bytes());
+    b[96..100].copy_from_slice(&352u32.to_le_bytes());
+    b[105..107].copy_from_slice(&20u16.to_le_bytes());
+    for k in 0..3 {
+        b[131 + 8 * k..139 + 8 * k].copy_from_slice(&0.01f64.to_le_bytes());
+    }
+    b[235..243].copy_from_slice(&352u64.to_le_bytes());
+    b[243..247].copy_from_slice(&1u32.to_le_bytes());
+    b[372..380].copy_from_slice(&(1u64 << 48).to_le_bytes());
+    let e = parse_las(&b).unwrap_err();
+    assert!(
+        e.to_string().contains("extended variable-length record 0"),
+        "{e}"
+    );
+}

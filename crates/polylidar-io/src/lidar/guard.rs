@@ -122,7 +122,10 @@ pub fn check_header<R: Read + Seek>(r: &mut R) -> KindResult<Layout> {
     let compressed = format_byte & 0x80 != 0;
     let record_len = u64::from(u16_at(&head, 105));
     let legacy = u64::from(u32_at(&head, 107));
-    let points = if minor >= 4 && got == HEADER_14 && header_size >= HEADER_14 as u64 {
+    // The `las` crate reads the LAS 1.4 fields of a 1.4 file whatever its header size
+    // says, so they are checked on the same condition.
+    let fields_14 = minor >= 4 && got == HEADER_14;
+    let points = if fields_14 {
         legacy.max(u64_at(&head, 247))
     } else {
         legacy
@@ -146,7 +149,7 @@ pub fn check_header<R: Read + Seek>(r: &mut R) -> KindResult<Layout> {
             )));
         }
     }
-    if minor >= 4 && got == HEADER_14 && header_size >= HEADER_14 as u64 {
+    if fields_14 {
         check_evlrs(r, len, u64_at(&head, 235), u32_at(&head, 243))?;
     }
     if compressed {
