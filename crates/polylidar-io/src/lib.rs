@@ -62,6 +62,7 @@ mod colorized;
 mod csv;
 mod depth;
 mod error;
+mod intrinsics;
 mod kitti;
 mod lidar;
 mod limits;
@@ -74,7 +75,6 @@ mod units;
 
 pub use auto::{InputKind, ReadNotes, format_of, read_input, read_input_with};
 pub use cloud::{LasCloud, MeshData, MeshStats, PointCloud, PointTable};
-mod intrinsics;
 pub use color::{
     ColorImage, color_path_for, parse_color_image, parse_color_image_with, parse_pcd_colors,
     read_color_image, read_color_image_with, read_pcd_colors,
@@ -90,6 +90,7 @@ pub use depth::{
     read_realsense_intrinsics, write_depth_png,
 };
 pub use error::{ErrorKind, Format, IoError};
+pub use intrinsics::{parse_open3d_camera, read_camera_file, read_open3d_camera};
 pub use kitti::{
     KITTI_RECORD_BYTES, KittiScan, encode_kitti_bin, parse_kitti_bin, parse_kitti_bin_with,
     read_kitti_bin, read_kitti_bin_with, write_kitti_bin,
@@ -117,9 +118,6 @@ pub use pcd::{
 pub use ply::{
     encode_ply, parse_ply, parse_ply_colors, parse_ply_with, parse_ply_with_stats, read_ply,
     read_ply_colors, read_ply_with, read_ply_with_stats, write_ply,
-};
-    encode_ply, parse_ply, parse_ply_colors, parse_ply_with_stats, read_ply, read_ply_colors,
-    read_ply_with_stats, write_ply,
 };
 pub use units::{LengthUnit, UnknownUnit, geotiff_linear_unit, wkt_linear_unit};
 

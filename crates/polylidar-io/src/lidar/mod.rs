@@ -8,6 +8,8 @@ use crate::error::{ErrorKind, Format, IoError, KindResult};
 use crate::limits::Limits;
 
 mod guard;
+mod write;
+pub use write::{LasWriteOptions, read_las_bounds, write_las};
 mod quiet;
 
 /// Bytes of point records decoded per batch: bounds memory use by what the file really
