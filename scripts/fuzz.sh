@@ -40,6 +40,8 @@ else
     cargo +nightly fuzz build -O -s "$SANITIZER"
 fi
 
+BIN="$FUZZ/target/$(rustc +nightly -vV | sed -n 's/^host: //p')/release"
+
 # Extensions whose fixtures seed each reader target.
 declare -A SEEDS=(
     [pcd]="pcd" [lzf]="pcd" [ply]="ply" [obj]="obj" [npy]="npy" [las]="las laz"
@@ -97,9 +99,11 @@ run_target() {
     before=$(find "$FUZZ/artifacts/$target" -type f | wc -l)
     local max_len=$HEAD_BYTES
     [ "$target" = pipeline ] && max_len=4100
-    cargo +nightly fuzz run -O -s "$SANITIZER" "$target" "$FUZZ/corpus/$target" -- \
+    # The binary built above, run directly: `cargo fuzz run` would rebuild first.
+    (cd "$FUZZ/artifacts/$target" && "$BIN/$target" "$FUZZ/corpus/$target" \
+        -artifact_prefix="$FUZZ/artifacts/$target/" \
         -max_total_time="$SECONDS_PER_TARGET" -rss_limit_mb=512 -timeout=20 \
-        -max_len="$max_len" -print_final_stats=1 > "$log" 2>&1 || true
+        -max_len="$max_len" -print_final_stats=1 > "$log" 2>&1) || true
     local execs after
     execs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' | tail -1)
     after=$(find "$FUZZ/artifacts/$target" -type f | wc -l)
