@@ -21,8 +21,8 @@ pub struct CityArgs {
     /// About how many returns the city has (its size: the side is sqrt(points / density)).
     #[arg(long, default_value_t = 1_000_000)]
     points: u64,
-    /// Output folder (created).
-    #[arg(long)]
+    /// Output folder (created; not needed with --extract).
+    #[arg(long, default_value = "city")]
     out: PathBuf,
     /// Side of one output tile, metres.
     #[arg(long, default_value_t = 250.0)]
@@ -36,6 +36,20 @@ pub struct CityArgs {
     /// Write uncompressed .las instead of .laz.
     #[arg(long)]
     las: bool,
+    /// Instead of writing files: extract the city in tiles of --tile metres (rooftop
+    /// preset, one pipeline thread per tile, --workers tiles at a time, merges of 4) and
+    /// report the per-tile and merge costs, throughput and peak memory.
+    #[arg(long)]
+    extract: bool,
+    /// Tiles extracted at once with --extract (the workers of a cluster).
+    #[arg(long, default_value_t = 2)]
+    workers: usize,
+    /// With --extract: also one run on the whole city (in memory) to compare with.
+    #[arg(long)]
+    single: bool,
+    /// Overlap margin of the tiles with --extract, metres.
+    #[arg(long, default_value_t = 4.0)]
+    margin: f64,
 }
 
 /// Generates and writes the city.
@@ -49,6 +63,9 @@ pub fn city(args: &CityArgs) -> Result<()> {
     })?;
     if !(args.tile.is_finite() && args.tile > 0.0) {
         return Err(msg(format!("--tile {} must be positive", args.tile)));
+    }
+    if args.extract {
+        return crate::city_extract::run(&city, args.tile, args.margin, args.workers, args.single);
     }
     std::fs::create_dir_all(&args.out)?;
     let n = (city.side() / args.tile).ceil() as u32;

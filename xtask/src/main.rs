@@ -12,6 +12,7 @@
 mod bench;
 mod chart;
 mod city;
+mod city_extract;
 mod data;
 mod error;
 mod machine;
