@@ -630,7 +630,8 @@ impl Config {
     /// * `room` (ours): unorganized indoor clouds — scans with the grid dropped, merged
     ///   views, SLAM maps — on the unorganized 3D path ([`Config::unorganized`], its
     ///   defaults): FastGA level 4, v_min 5, d_peak 0.15, weight 0.01; lmax 0.1,
-    ///   min_triangles 250, z 0.07, norm 0.95, hole vertices 10.
+    ///   min_triangles 250, min_area 0.015, z 0.07, norm 0.95, hole vertices 10,
+    ///   refinement on (a wall seen between objects is one plane).
     /// * `aerial` (ours): airborne LiDAR on the unorganized 3D path, for pitched roofs and
     ///   façades as well as flat roofs and the ground: FastGA as `room`; lmax 3,
     ///   min_triangles 60, z 0.3, norm 0.94, hole vertices 8.
@@ -772,6 +773,8 @@ impl Config {
                 z_thresh: 0.07,
                 norm_thresh: 0.95,
                 min_hole_vertices: 10,
+                min_area: 0.015,
+                refine: true,
                 unorganized: Some(crate::UnorganizedSection::default()),
                 ..base
             },

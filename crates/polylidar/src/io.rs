@@ -177,7 +177,8 @@ impl Input {
 
 impl Polylidar {
     /// Runs the pipeline that fits `input`: [`Self::extract_2d`], [`Self::extract_25d`]
-    /// (or [`Self::extract_scan`] for a cloud when [`crate::Config::scan`] is set),
+    /// (or [`Self::extract_scan`] for a cloud when [`crate::Config::scan`] is set,
+    /// [`Self::extract_unorganized`] when [`crate::Config::unorganized`] is),
     /// [`Self::extract_organized`] or [`Self::extract_mesh`] (which takes its own copy of
     /// the mesh).
     ///
@@ -195,6 +196,9 @@ impl Polylidar {
         match input {
             Input::Points2d(points) => self.extract_2d(points),
             Input::Cloud(points) if self.config().scan.is_some() => self.extract_scan(points),
+            Input::Cloud(points) if self.config().unorganized.is_some() => {
+                self.extract_unorganized(points, None)
+            }
             Input::Cloud(points) => self.extract_25d(points),
             Input::Organized(cloud) => self.extract_organized(cloud),
             Input::Mesh {

@@ -70,6 +70,7 @@ mod scene;
 mod sensor;
 mod solid;
 mod triangulate;
+mod unorganized;
 mod vec3;
 
 pub use builders::{
@@ -86,6 +87,7 @@ pub use scan::{Noise, ScanResult};
 pub use scene::{GroundTruthPlane, Scene};
 pub use sensor::{MAX_PIXELS, PinholeCamera, Pose, Sensor, SphericalSensor};
 pub use solid::Solid;
+pub use unorganized::{UnorganizedCloud, VIEWS, synpeb_like_views};
 
 /// A SynPEB-like benchmark frame: [`Scene::random_polyhedra`] with
 /// [`RandomPolyhedraConfig::default`] and `seed`, and the sensor to scan it with.

@@ -13,6 +13,7 @@ mod shapes2d;
 mod smoothing;
 mod synpeb_accuracy;
 mod synpeb_timing;
+mod unorganized;
 
 use std::fmt::Write as _;
 
@@ -93,6 +94,12 @@ pub const ALL: &[TableSpec] = &[
         aliases: &["10b"],
         files: &["table10b_rgbd_accuracy.md"],
         run: rgbd_accuracy::run,
+    },
+    TableSpec {
+        key: "unorganized",
+        aliases: &["10u", "table10u"],
+        files: &["table10u_unorganized.md"],
+        run: unorganized::run,
     },
 ];
 
