@@ -37,7 +37,7 @@ pub struct CityArgs {
     #[arg(long)]
     las: bool,
     /// Instead of writing files: extract the city in tiles of --tile metres (rooftop
-    /// preset, one pipeline thread per tile, --workers tiles at a time, merges of 4) and
+    /// preset, on a pool of --workers threads, merges of 4) and
     /// report the per-tile and merge costs, throughput and peak memory.
     #[arg(long)]
     extract: bool,

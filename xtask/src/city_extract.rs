@@ -1,6 +1,6 @@
 //! `cargo xtask city --extract`: the synthetic city extracted in tiles in one process, as
-//! the Dask front runs it on a cluster (each tile generated, extracted with one pipeline
-//! thread and encoded as bytes; `workers` tiles at a time; merges of 4 in a tree), with the
+//! the Dask front runs it on a cluster (each tile generated, extracted and encoded as
+//! bytes on a pool of `workers` threads; merges of 4 in a tree), with the
 //! cost of each part, so that the time of a cluster of any size can be modelled.
 
 use std::time::Instant;
