@@ -20,6 +20,7 @@ impl<const N: usize> Points<'_, N> {
     /// The points, `[f64; N]` each.
     pub fn as_slice(&self) -> &[[f64; N]] {
         match self {
+            // `readable` made sure the array is contiguous and aligned.
             Points::Borrowed(a) => a.as_slice().map_or(&[], |s| s.as_chunks::<N>().0),
             Points::Converted(v) => v,
         }
@@ -141,13 +142,7 @@ pub fn points<'py, const N: usize>(
     let array = ndarray(obj, expect, "float64 or float32")?;
     check_shape(array, expect, ndim, &[N])?;
     if let Ok(a) = array.cast::<PyArrayDyn<f64>>() {
-        if !a.is_c_contiguous() {
-            return Err(not_contiguous(expect));
-        }
-        let readonly = a
-            .try_readonly()
-            .map_err(|e| PyValueError::new_err(e.to_string()))?;
-        return Ok(Points::Borrowed(readonly));
+        return Ok(Points::Borrowed(readable(a, expect)?));
     }
     if let Ok(a) = array.cast::<PyArrayDyn<f32>>() {
         let readonly = a
@@ -183,11 +178,33 @@ pub fn exact<'py, T: Element>(
             dtype_name(array)
         )));
     };
+    readable(a, expect)
+}
+
+/// `a` borrowed read-only as one slice: refused when not C-contiguous; copied once by NumPy
+/// when its data is not aligned for `T` (NumPy allows that, and Dask hands such arrays
+/// to its workers), which could not be read in place.
+fn readable<'py, T: Element>(
+    a: &Bound<'py, PyArrayDyn<T>>,
+    expect: Expect,
+) -> PyResult<PyReadonlyArrayDyn<'py, T>> {
     if !a.is_c_contiguous() {
         return Err(not_contiguous(expect));
     }
-    a.try_readonly()
-        .map_err(|e| PyValueError::new_err(e.to_string()))
+    let borrow = |a: &Bound<'py, PyArrayDyn<T>>| {
+        a.try_readonly()
+            .map_err(|e| PyValueError::new_err(e.to_string()))
+    };
+    let readonly = borrow(a)?;
+    if readonly.as_slice().is_ok() {
+        return Ok(readonly);
+    }
+    let copy = a.call_method0("copy")?.cast_into::<PyArrayDyn<T>>()?;
+    let readonly = borrow(&copy)?;
+    match readonly.as_slice() {
+        Ok(_) => Ok(readonly),
+        Err(e) => Err(PyValueError::new_err(format!("{}: {e}", expect.name))),
+    }
 }
 
 /// Triangle indices: an `(M, 3)` array of any integer dtype, checked to fit `u32`.

@@ -53,14 +53,6 @@ pub fn extract_tile<'py>(
     let grid = grid_of(grid)?;
     let p = arrays::points::<3>(points, POINTS_3D, 2)?;
     let slice = p.as_slice();
-    if slice.len() != points.len()? {
-        // An array NumPy marks unaligned (as Dask hands over received buffers) is not read
-        // in place: refuse it rather than see no points.
-        return Err(pyo3::exceptions::PyValueError::new_err(
-            "points: the array is not aligned for float64; pass numpy.require(points, \
-             numpy.float64, [\"C\", \"A\"])",
-        ));
-    }
     let set = py
         .detach(|| tiles::extract_tile(&polylidar, &grid, TileId { col, row }, slice))
         .map_err(|e| error(&e))?;

@@ -56,6 +56,21 @@ def test_float32_and_float64_agree():
     assert len(a.polygons) == len(b.polygons) == 2
 
 
+def test_unaligned_input_is_read_not_lost():
+    # NumPy allows float64 data at any byte offset (Dask hands such arrays to workers);
+    # they are copied once, never read as no points.
+    points = grid_with_hole()
+    raw = np.zeros(points.nbytes + 1, dtype=np.uint8)
+    unaligned = np.ndarray(points.shape, dtype=np.float64, buffer=raw, offset=1)
+    unaligned[...] = points
+    assert not unaligned.flags.aligned
+    pl = pr.Polylidar(lmax=1.5, min_triangles=10)
+    expected = pl.extract_2d(points)
+    got = pl.extract_2d(unaligned)
+    assert len(got.polygons) == len(expected.polygons) == 1
+    assert np.array_equal(got.polygons[0].shell, expected.polygons[0].shell)
+
+
 def test_organized_planes_and_labels():
     cloud = box_corner()
     result = pr.Polylidar(**ORGANIZED).extract_organized(cloud)
