@@ -41,6 +41,19 @@ pub enum Demo {
     Shape,
 }
 
+/// How an unorganized 3D cloud is processed (`--mode`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum Mode {
+    /// 3D when the file has normals or the preset asks for it, else 2.5D.
+    Auto,
+    /// Triangulated along `up` (2.5D).
+    #[value(name = "25d")]
+    TwoAndHalfD,
+    /// Planes in every direction.
+    #[value(name = "3d")]
+    ThreeD,
+}
+
 /// Input and parameters shared by `extract` and `evaluate`.
 #[derive(Debug, Args)]
 pub struct InputArgs {
@@ -70,6 +83,12 @@ pub struct InputArgs {
     /// preset field by field, and flags override both.
     #[arg(long, value_name = "FILE")]
     pub config: Option<PathBuf>,
+    /// Unorganized 3D clouds: `25d` triangulates along `--up` (planes facing up only),
+    /// `3d` finds planes in every direction (normals read or estimated, dominant
+    /// directions, a triangulation per direction). Default `auto`: 3D when the file stores
+    /// normals (PCD normal_x/y/z) or the preset is `room` or `aerial`, else 2.5D.
+    #[arg(long, value_enum, default_value_t = Mode::Auto)]
+    pub mode: Mode,
     /// Organized input: keep every N-th row and column.
     #[arg(long, value_name = "N", default_value_t = 1, allow_negative_numbers = true, value_parser = clap::value_parser!(u32).range(1..))]
     pub stride: u32,

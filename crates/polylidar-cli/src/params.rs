@@ -7,7 +7,7 @@ use polylidar::scale::{alpha_for_spacing, convert_lengths, lmax_for_spacing};
 use polylidar::{Config, PRESETS};
 use polylidar_io::LengthUnit;
 
-use crate::args::{Demo, InputArgs, ParamArgs};
+use crate::args::{Demo, InputArgs, Mode, ParamArgs};
 use crate::input::{DEMO_SHAPE_POINTS, Input};
 use crate::run::CliError;
 
@@ -97,6 +97,28 @@ fn layered(args: &InputArgs, unit: LengthUnit) -> Result<(Config, Explicit), Cli
     Ok((config, explicit))
 }
 
+/// Takes the unorganized 3D path ([`polylidar::Config::unorganized`]) or the 2.5D one as
+/// `--mode` says (`auto`: 3D when the file stores normals or the preset asks for it).
+fn apply_mode(args: &InputArgs, config: &mut Config) -> Result<(), CliError> {
+    let three_d = match args.mode {
+        Mode::ThreeD => true,
+        Mode::TwoAndHalfD => false,
+        Mode::Auto => {
+            config.unorganized.is_some()
+                || match args.input.as_deref() {
+                    Some(path) => polylidar::unorganized::file_has_normals(path)?,
+                    None => false,
+                }
+        }
+    };
+    if three_d {
+        config.unorganized.get_or_insert_with(Default::default);
+    } else {
+        config.unorganized = None;
+    }
+    Ok(())
+}
+
 /// The parameters for a loaded `input` whose file declares `header_unit`.
 ///
 /// Lengths are in the input's unit: `--units`, else the LAS/LAZ header's, else metres.
@@ -118,10 +140,16 @@ pub fn config_for(
         (None, None) => (LengthUnit::Metre, UnitSource::Assumed),
     };
     let (mut config, explicit) = layered(args, unit)?;
+    if matches!(input, Input::Cloud(_)) {
+        apply_mode(args, &mut config)?;
+    }
     let preset = preset_name(args).map(str::to_owned);
     let mut notes = Vec::new();
     let spacing = match input {
         Input::Points2d(points) => Some(polylidar::scale::median_spacing_2d(points)?),
+        Input::Cloud(points) if config.unorganized.is_some() => {
+            Some(polylidar::unorganized::median_spacing(points)?)
+        }
         Input::Cloud(points) => Some(polylidar::scale::median_spacing_25d(points, config.up)?),
         _ => None,
     };
@@ -177,6 +205,7 @@ pub fn config_for(
     }
     if let (Input::Cloud(points), Some(s)) = (input, spacing)
         && preset.is_none()
+        && config.unorganized.is_none()
         && !explicit.min_triangles
         && let Some((n, area)) =
             polylidar::scale::min_triangles_for_extent(points, config.up, s, config.min_triangles)

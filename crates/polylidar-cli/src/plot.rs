@@ -71,6 +71,10 @@ pub fn render(
                 (Swatch::Line(HOLE), "hole".to_owned()),
             ],
         ),
+        Input::Cloud(_) if !extraction.fitted.is_empty() => (
+            render_oblique(extraction, up)?,
+            vec![(Swatch::Planes, "one colour per plane (3D path)".to_owned())],
+        ),
         Input::Cloud(points) => (
             render_aerial(points, extraction, up, processed)?,
             vec![
@@ -617,6 +621,8 @@ fn render_oblique(extraction: &Extraction, up: [f64; 3]) -> Result<Pixmap, Strin
         let light = 0.35 + 0.65 * facing / dot(n, n).sqrt();
         let base = match usize::try_from(label[t]) {
             Ok(i) => plane_colour(i).map(f64::from),
+            // The unorganized 3D path's triangles outside planes bridge gaps: not drawn.
+            Err(_) if !extraction.fitted.is_empty() => continue,
             Err(_) => [185.0; 3],
         };
         let [r, g, bl] = base.map(|v| (v * light).min(255.0) as u8);

@@ -205,10 +205,21 @@ fn extract(args: &ExtractArgs) -> Result<Outcome, CliError> {
         eprintln!("warning: {warning}");
     }
     let polylidar = Polylidar::new(chosen.config.clone())?;
-    let extraction = run_once(&polylidar, &input).map_err(on_input(&source))?;
+    // The unorganized 3D path takes the normals the file stores.
+    let normals = match (&input, args.input.input.as_deref()) {
+        (Input::Cloud(points), Some(path)) if chosen.config.unorganized.is_some() => {
+            polylidar::unorganized::read_normals(path)?.filter(|n| n.len() == points.len())
+        }
+        _ => None,
+    };
+    let run_input = || match (&input, &normals) {
+        (Input::Cloud(points), Some(n)) => polylidar.extract_unorganized(points, Some(n)),
+        _ => run_once(&polylidar, &input),
+    };
+    let extraction = run_input().map_err(on_input(&source))?;
     let mut timings = vec![extraction.diagnostics.timings.clone()];
     for _ in 1..args.repeat {
-        let again = run_once(&polylidar, &input).map_err(on_input(&source))?;
+        let again = run_input().map_err(on_input(&source))?;
         timings.push(again.diagnostics.timings);
     }
     let processed = !args.raw && polylidar.config().postprocess.is_some();

@@ -370,6 +370,33 @@ impl Polylidar {
     }
 }
 
+/// The median distance of the points to their nearest neighbour: the spacing of a cloud
+/// sampled in every direction (the 2.5D spacing of [`crate::scale`] projects walls away).
+///
+/// ```
+/// let points: Vec<[f64; 3]> = (0..100).map(|i| [0.0, 0.5 * (i % 10) as f64, 0.5 * (i / 10) as f64]).collect();
+/// assert_eq!(polylidar::unorganized::median_spacing(&points)?, 0.5);
+/// # Ok::<(), polylidar::PolylidarError>(())
+/// ```
+///
+/// # Errors
+/// [`PolylidarError::Normals`] for an empty cloud or a non-finite point.
+pub fn median_spacing(points: &[[f64; 3]]) -> Result<f64, PolylidarError> {
+    let knn = Neighbours::new(points, 2)?;
+    let mut d: Vec<f64> = (0..knn.len())
+        .map(|i| {
+            let [a, b] = [knn.of(i)[0], knn.of(i)[knn.k() - 1]].map(|v| points[v as usize]);
+            dot(
+                [a[0] - b[0], a[1] - b[1], a[2] - b[2]],
+                [a[0] - b[0], a[1] - b[1], a[2] - b[2]],
+            )
+            .sqrt()
+        })
+        .collect();
+    let mid = d.len() / 2;
+    Ok(*d.select_nth_unstable_by(mid, f64::total_cmp).1)
+}
+
 /// The point normals a file stores, one per point in the order its reader returns the
 /// points (feature `io`): PCD `normal_x`, `normal_y`, `normal_z` fields; `None` for a file
 /// without them and for other formats.

@@ -285,3 +285,51 @@ fn voxel_downsampling_keeps_the_planes_and_labels_every_point() {
         "{found:?}"
     );
 }
+
+/// The real fragment of a living room (with normals) and Autzen (airborne, in feet): the
+/// 3D path finds planes facing several directions.
+#[test]
+fn real_clouds_give_planes_in_several_directions() {
+    let count_directions = |e: &Extraction| {
+        let mut axes: Vec<[f64; 3]> = Vec::new();
+        for p in &e.polygons {
+            let n = p.plane.normal;
+            if !axes
+                .iter()
+                .any(|a| (0..3).map(|k| a[k] * n[k]).sum::<f64>().abs() > 0.9)
+            {
+                axes.push(n);
+            }
+        }
+        axes.len()
+    };
+    if let Some(path) = test_fixtures::fixture("rgbd/living_fragment.pcd") {
+        let points = polylidar_io::read_pcd(&path).unwrap().points;
+        let normals = polylidar::unorganized::read_normals(&path)
+            .unwrap()
+            .unwrap();
+        let config = Config::preset("room").unwrap().with_threads(2);
+        let e = Polylidar::new(config)
+            .unwrap()
+            .extract_unorganized(&points, Some(&normals))
+            .unwrap();
+        assert!(e.polygons.len() >= 5, "{} polygons", e.polygons.len());
+        assert!(count_directions(&e) >= 3, "walls and floor");
+    }
+    if let Some(path) = test_fixtures::fixture("lidar/autzen_trim.laz") {
+        let points = polylidar_io::read_las(&path).unwrap().points;
+        let config =
+            polylidar::scale::convert_lengths(&Config::preset("aerial").unwrap(), 1.0 / 0.3048);
+        let e = Polylidar::new(config.with_threads(2))
+            .unwrap()
+            .extract_unorganized(&points, None)
+            .unwrap();
+        assert!(e.polygons.len() >= 20, "{} polygons", e.polygons.len());
+        let sloped = e
+            .polygons
+            .iter()
+            .filter(|p| (0.5..0.97).contains(&p.plane.normal[2].abs()))
+            .count();
+        assert!(sloped > 0, "no sloped roof");
+    }
+}
