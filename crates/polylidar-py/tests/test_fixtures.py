@@ -148,6 +148,7 @@ def test_threads_run_at_once():
         t.join()
     assert during > 0
 
+
 def test_depth_cameras_and_stream(fixture, tmp_path):
     icl = fixture("rgbd/icl_living_depth_00000.png")
     tum = fixture("rgbd/tum_depth.png")
