@@ -234,23 +234,8 @@ fn inode(_: &Path) -> Option<(u64, u64)> {
 mod tests {
     use super::*;
 
-    fn scratch(name: &str) -> PathBuf {
-        let dir = std::env::temp_dir().join(format!(
-            "polylidar-cli-outputs-{}-{name}",
-            std::process::id()
-        ));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).unwrap();
-        dir
-    }
-
-    fn names(dir: &Path) -> Vec<String> {
-        let mut names: Vec<String> = std::fs::read_dir(dir)
-            .unwrap()
-            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-            .collect();
-        names.sort();
-        names
+    fn scratch(name: &str) -> std::path::PathBuf {
+        test_fixtures::scratch_dir("polylidar-cli-outputs", name)
     }
 
     #[test]
@@ -304,7 +289,7 @@ mod tests {
         outputs
             .plan("-o", &dir.join("new").join("deeper").join("out.geojson"))
             .unwrap();
-        assert_eq!(names(&dir), ["file"]);
+        assert_eq!(test_fixtures::dir_entries(&dir), ["file"]);
     }
 
     #[test]
@@ -321,7 +306,7 @@ mod tests {
         assert!(outputs.stage("--plot", &b, b"new b").is_err());
         drop(outputs);
         assert_eq!(std::fs::read(&a).unwrap(), b"old a");
-        assert_eq!(names(&dir), ["a.geojson", "b.png"]);
+        assert_eq!(test_fixtures::dir_entries(&dir), ["a.geojson", "b.png"]);
         std::fs::remove_dir(&b).unwrap();
         let mut outputs = Outputs::new();
         outputs.stage("-o", &a, b"new a").unwrap();
@@ -330,6 +315,6 @@ mod tests {
         let written = outputs.commit().unwrap();
         assert_eq!(written, [a.clone(), b.clone()]);
         assert_eq!(std::fs::read(&a).unwrap(), b"new a");
-        assert_eq!(names(&dir), ["a.geojson", "b.png"]);
+        assert_eq!(test_fixtures::dir_entries(&dir), ["a.geojson", "b.png"]);
     }
 }

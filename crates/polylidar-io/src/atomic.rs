@@ -334,21 +334,8 @@ fn sync_directory(target: &Path) {
 mod tests {
     use super::*;
 
-    fn scratch(name: &str) -> PathBuf {
-        let dir =
-            std::env::temp_dir().join(format!("polylidar-io-atomic-{}-{name}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).unwrap();
-        dir
-    }
-
-    fn entries(dir: &Path) -> Vec<String> {
-        let mut names: Vec<String> = std::fs::read_dir(dir)
-            .unwrap()
-            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-            .collect();
-        names.sort();
-        names
+    fn scratch(name: &str) -> std::path::PathBuf {
+        test_fixtures::scratch_dir("polylidar-io-atomic", name)
     }
 
     #[test]
@@ -358,7 +345,7 @@ mod tests {
         write_atomic(&path, b"old").unwrap();
         write_atomic(&path, b"new contents").unwrap();
         assert_eq!(std::fs::read(&path).unwrap(), b"new contents");
-        assert_eq!(entries(&dir), ["out.json"]);
+        assert_eq!(test_fixtures::dir_entries(&dir), ["out.json"]);
     }
 
     #[test]
@@ -374,7 +361,7 @@ mod tests {
         .unwrap_err();
         assert_eq!(err.to_string(), "disk full");
         assert_eq!(std::fs::read(&path).unwrap(), old);
-        assert_eq!(entries(&dir), ["out.json"]);
+        assert_eq!(test_fixtures::dir_entries(&dir), ["out.json"]);
     }
 
     #[test]
@@ -384,13 +371,13 @@ mod tests {
         std::fs::write(&a, b"old a").unwrap();
         let first = StagedFile::write(&a, b"new a").unwrap();
         assert_eq!(std::fs::read(&a).unwrap(), b"old a");
-        assert_eq!(entries(&dir).len(), 2);
+        assert_eq!(test_fixtures::dir_entries(&dir).len(), 2);
         // A later output fails: the earlier one is dropped, not committed.
         let second = StagedFile::write_with(&b, |_| Err(io::Error::other("no")));
         assert!(second.is_err());
         drop(first);
         assert_eq!(std::fs::read(&a).unwrap(), b"old a");
-        assert_eq!(entries(&dir), ["a"]);
+        assert_eq!(test_fixtures::dir_entries(&dir), ["a"]);
         let all = vec![
             StagedFile::write(&a, b"A").unwrap(),
             StagedFile::write(&b, b"B").unwrap(),
@@ -398,7 +385,7 @@ mod tests {
         commit_all(all).unwrap();
         assert_eq!(std::fs::read(&a).unwrap(), b"A");
         assert_eq!(std::fs::read(&b).unwrap(), b"B");
-        assert_eq!(entries(&dir), ["a", "b"]);
+        assert_eq!(test_fixtures::dir_entries(&dir), ["a", "b"]);
     }
 
     #[test]
@@ -411,13 +398,13 @@ mod tests {
         drop(file);
         drop(staged);
         assert_eq!(std::fs::read(&path).unwrap(), b"old");
-        assert_eq!(entries(&dir), ["cloud.las"]);
+        assert_eq!(test_fixtures::dir_entries(&dir), ["cloud.las"]);
         let (staged, mut file) = StagedFile::create(&path).unwrap();
         file.write_all(b"new").unwrap();
         drop(file);
         staged.commit().unwrap();
         assert_eq!(std::fs::read(&path).unwrap(), b"new");
-        assert_eq!(entries(&dir), ["cloud.las"]);
+        assert_eq!(test_fixtures::dir_entries(&dir), ["cloud.las"]);
     }
 
     #[test]
@@ -439,7 +426,7 @@ mod tests {
             io::ErrorKind::PermissionDenied
         );
         assert_eq!(std::fs::read(&locked).unwrap(), b"keep");
-        assert_eq!(entries(&dir), ["locked", "sub"]);
+        assert_eq!(test_fixtures::dir_entries(&dir), ["locked", "sub"]);
     }
 
     #[cfg(unix)]
@@ -479,7 +466,7 @@ mod tests {
             "out.json".to_owned(),
         ];
         expected.sort();
-        assert_eq!(entries(&dir), expected);
+        assert_eq!(test_fixtures::dir_entries(&dir), expected);
     }
 
     #[cfg(unix)]

@@ -106,8 +106,7 @@ pub use npy::{
     read_npy, read_npy_with, write_npy_f32, write_npy_f64, write_npy_i32,
 };
 pub use obj::{
-    parse_obj, parse_obj_with, parse_obj_with_stats, read_obj, read_obj_with,
-    read_obj_with_stats,
+    parse_obj, parse_obj_with, parse_obj_with_stats, read_obj, read_obj_with, read_obj_with_stats,
 };
 pub use pcd::{
     PcdColumns, PcdEncoding, PcdField, PcdHeader, PcdScalar, PcdWriteOptions, ScalarType,

@@ -285,22 +285,7 @@ mod tests {
     use crate::Config;
 
     fn scratch(name: &str) -> std::path::PathBuf {
-        let dir = std::env::temp_dir().join(format!(
-            "polylidar-io-writers-{}-{name}",
-            std::process::id()
-        ));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).unwrap();
-        dir
-    }
-
-    fn names(dir: &Path) -> Vec<String> {
-        let mut names: Vec<String> = std::fs::read_dir(dir)
-            .unwrap()
-            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-            .collect();
-        names.sort();
-        names
+        test_fixtures::scratch_dir("polylidar-io-writers", name)
     }
 
     #[test]
@@ -319,7 +304,10 @@ mod tests {
         let text = std::fs::read_to_string(&json).unwrap();
         assert!(text.starts_with("{\"type\":\"FeatureCollection\""));
         write_labels(dir.join("labels.npy"), 2, 2, &[0, 1, -1, 0]).unwrap();
-        assert_eq!(names(&dir), ["labels.npy", "planes.geojson"]);
+        assert_eq!(
+            test_fixtures::dir_entries(&dir),
+            ["labels.npy", "planes.geojson"]
+        );
     }
 
     #[test]
@@ -336,6 +324,6 @@ mod tests {
             "{err}"
         );
         assert_eq!(std::fs::read(&path).unwrap(), b"precious");
-        assert_eq!(names(&dir), ["keep.geojson"]);
+        assert_eq!(test_fixtures::dir_entries(&dir), ["keep.geojson"]);
     }
 }

@@ -13,7 +13,7 @@
 //! assert!(path.is_file());
 //! ```
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -136,4 +136,37 @@ pub fn grid_triangles(n: usize) -> Vec<[u32; 3]> {
             ]
         })
         .collect()
+}
+
+/// A fresh, empty directory `<temp>/<prefix>-<process id>-<name>` for a test's files
+/// (emptied first if an earlier run left it).
+///
+/// # Panics
+/// When the directory cannot be created.
+#[expect(clippy::expect_used, reason = "a test helper: a test fails loudly here")]
+pub fn scratch_dir(prefix: &str, name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("{prefix}-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("a scratch directory under the temporary directory");
+    dir
+}
+
+/// The names of the entries of `dir`, sorted (to check that a write left no temporary
+/// file behind).
+///
+/// # Panics
+/// When `dir` cannot be read.
+#[expect(clippy::expect_used, reason = "a test helper: a test fails loudly here")]
+pub fn dir_entries(dir: &Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .expect("a readable directory")
+        .map(|e| {
+            e.expect("a directory entry")
+                .file_name()
+                .to_string_lossy()
+                .into_owned()
+        })
+        .collect();
+    names.sort();
+    names
 }
