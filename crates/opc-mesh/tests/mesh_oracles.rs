@@ -348,7 +348,10 @@ fn no_triangle_errors() {
         let err = flat.mesh(&OpcMeshOptions::default()).unwrap_err();
         let text = err.to_string();
         assert!(text.contains("9 of the 9 points are valid"), "{text}");
-        assert!(text.contains("coincident") && text.contains("overflows"), "{text}");
+        assert!(
+            text.contains("coincident") && text.contains("overflows"),
+            "{text}"
+        );
     }
     // Valid points on a checkerboard never form a triangle.
     let checker: Vec<[f64; 3]> = (0..16)

@@ -141,9 +141,8 @@ pub fn tile_polygons<'py>(
         PyArray2::from_vec2(py, &normals).map_err(|e| error(&e))?
     };
     out.set_item("normal", normal)?;
-    let column = |f: fn(&tiles::TilePolygon) -> f64| -> Vec<f64> {
-        set.polygons.iter().map(f).collect()
-    };
+    let column =
+        |f: fn(&tiles::TilePolygon) -> f64| -> Vec<f64> { set.polygons.iter().map(f).collect() };
     out.set_item("offset", PyArray1::from_vec(py, column(|p| p.offset)))?;
     out.set_item("area", PyArray1::from_vec(py, column(|p| p.area)))?;
     let pairs = |t: &[TileId]| -> Vec<(u32, u32)> { t.iter().map(|t| (t.col, t.row)).collect() };
@@ -197,37 +196,39 @@ pub fn synth_city(
             "tile {tile} must be positive"
         )));
     }
-    py.detach(|| -> Result<Vec<PathBuf>, Box<dyn std::error::Error + Send + Sync>> {
-        std::fs::create_dir_all(&out_dir)?;
-        let n = (city.side() / tile).ceil() as u32;
-        let mut files = Vec::new();
-        for r in 0..n {
-            for c in 0..n {
-                let t = city.tile([f64::from(c) * tile, f64::from(r) * tile], tile);
-                let name = format!("city_{c:04}_{r:04}");
-                let path = out_dir.join(format!("{name}.{}", if laz { "laz" } else { "las" }));
-                polylidar_io::write_las(
-                    &path,
-                    &t.points,
-                    &t.classification,
-                    &[],
-                    &polylidar_io::LasWriteOptions::default(),
-                )?;
-                let labels = t
-                    .labels
-                    .iter()
-                    .map(|&l| i32::try_from(l))
-                    .collect::<Result<Vec<i32>, _>>()?;
-                polylidar_io::write_npy_i32(
-                    out_dir.join(format!("{name}.labels.npy")),
-                    &[labels.len()],
-                    &labels,
-                )?;
-                files.push(path);
+    py.detach(
+        || -> Result<Vec<PathBuf>, Box<dyn std::error::Error + Send + Sync>> {
+            std::fs::create_dir_all(&out_dir)?;
+            let n = (city.side() / tile).ceil() as u32;
+            let mut files = Vec::new();
+            for r in 0..n {
+                for c in 0..n {
+                    let t = city.tile([f64::from(c) * tile, f64::from(r) * tile], tile);
+                    let name = format!("city_{c:04}_{r:04}");
+                    let path = out_dir.join(format!("{name}.{}", if laz { "laz" } else { "las" }));
+                    polylidar_io::write_las(
+                        &path,
+                        &t.points,
+                        &t.classification,
+                        &[],
+                        &polylidar_io::LasWriteOptions::default(),
+                    )?;
+                    let labels = t
+                        .labels
+                        .iter()
+                        .map(|&l| i32::try_from(l))
+                        .collect::<Result<Vec<i32>, _>>()?;
+                    polylidar_io::write_npy_i32(
+                        out_dir.join(format!("{name}.labels.npy")),
+                        &[labels.len()],
+                        &labels,
+                    )?;
+                    files.push(path);
+                }
             }
-        }
-        Ok(files)
-    })
+            Ok(files)
+        },
+    )
     .map_err(|e| error(&*e))
 }
 

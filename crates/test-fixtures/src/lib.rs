@@ -143,7 +143,10 @@ pub fn grid_triangles(n: usize) -> Vec<[u32; 3]> {
 ///
 /// # Panics
 /// When the directory cannot be created.
-#[expect(clippy::expect_used, reason = "a test helper: a test fails loudly here")]
+#[expect(
+    clippy::expect_used,
+    reason = "a test helper: a test fails loudly here"
+)]
 pub fn scratch_dir(prefix: &str, name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("{prefix}-{}-{name}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
@@ -156,7 +159,10 @@ pub fn scratch_dir(prefix: &str, name: &str) -> PathBuf {
 ///
 /// # Panics
 /// When `dir` cannot be read.
-#[expect(clippy::expect_used, reason = "a test helper: a test fails loudly here")]
+#[expect(
+    clippy::expect_used,
+    reason = "a test helper: a test fails loudly here"
+)]
 pub fn dir_entries(dir: &Path) -> Vec<String> {
     let mut names: Vec<String> = std::fs::read_dir(dir)
         .expect("a readable directory")
