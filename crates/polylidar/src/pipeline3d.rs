@@ -259,7 +259,15 @@ impl Polylidar {
     /// runs; the sample fraction is raised so that at least `min_samples` normals are
     /// integrated.
     fn detect_normals(&self, mesh: &HalfEdgeMesh) -> Result<Vec<[f64; 3]>, PolylidarError> {
-        let normals = mesh.triangle_normals().unwrap_or(&[]);
+        self.dominant_normals_of(mesh.triangle_normals().unwrap_or(&[]))
+    }
+
+    /// FastGA's dominant normals of `normals` (none for none), with the detector kept
+    /// between runs and the sample fraction raised as [`crate::FastGaSection::config_for`] says.
+    pub(crate) fn dominant_normals_of(
+        &self,
+        normals: &[[f64; 3]],
+    ) -> Result<Vec<[f64; 3]>, PolylidarError> {
         if normals.is_empty() {
             return Ok(Vec::new());
         }

@@ -33,12 +33,10 @@ use std::borrow::Cow;
 use cloud_normals::{
     Neighbours, Orientation, estimate_normals, orient, smooth_points, voxel_downsample,
 };
-use fastga::FastGa;
 use halfedge_mesh::{HalfEdgeMesh, MeshError, NO_TWIN};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use crate::reuse;
 use crate::{Config, Counts, Extraction, Polylidar, PolylidarError, Timings};
 
 /// Directions at most (bits of a point's membership mask).
@@ -301,7 +299,7 @@ impl Polylidar {
                     [n, n.map(|c| -c)]
                 })
                 .collect();
-            let peaks = self.fastga_peaks(&both)?;
+            let peaks = self.dominant_normals_of(&both)?;
             let before = found.len();
             for d in peaks {
                 // Either sign of a direction found already (in this round: its antipode).
@@ -351,22 +349,6 @@ impl Polylidar {
                 if sign < 0.0 { d.map(|c| -c) } else { d }
             })
             .collect())
-    }
-
-    /// FastGA's dominant normals of `normals`, with the detector kept between runs.
-    fn fastga_peaks(&self, normals: &[[f64; 3]]) -> Result<Vec<[f64; 3]>, PolylidarError> {
-        if normals.is_empty() {
-            return Ok(Vec::new());
-        }
-        let config = self.config().fastga.config_for(normals.len());
-        let mut reuse = reuse::lock(&self.reuse);
-        let fastga = match reuse.fastga.as_mut() {
-            Some(fastga) => fastga,
-            None => reuse.fastga.insert(FastGa::new(config)?),
-        };
-        fastga.set_sample_fraction(config.sample_fraction)?;
-        let found = fastga.detect(normals)?;
-        Ok(found.normals.iter().map(|d| d.normal).collect())
     }
 }
 
