@@ -71,7 +71,9 @@ pub struct InputArgs {
     /// 8 Laplacian iterations), synpeb-auto (iterations from the measured noise, for range
     /// scanners), rgbd-auto (the same with passes growing with range and missing returns
     /// filled, for depth cameras), rooftop, kitti, kitti-range, mesh-basement,
-    /// mesh-mainfloor. Their lengths are metres, converted into `--units`. Default: none (the defaults below; `synpeb-auto` for `--demo scene`).
+    /// mesh-mainfloor. Their lengths are metres, converted into `--units`. Default without
+    /// `--config`: `rgbd-auto` for depth images, `synpeb-auto` for other organized clouds and
+    /// `--demo scene`; none for other inputs (the defaults below, lengths from the data).
     #[arg(long, value_name = "NAME")]
     pub preset: Option<String>,
     /// Unit of the input's coordinates: m, ft (0.3048 m) or us-ft (1200/3937 m). Every

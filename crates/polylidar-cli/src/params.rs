@@ -50,26 +50,64 @@ struct Explicit {
 
 /// The configuration `args` asks for, with a preset's lengths in `--units` (metres when
 /// not given); nothing is derived from data. Used where the input is organized (scores
-/// against ground truth).
+/// against ground truth), so the organized inputs' default preset applies.
 pub fn config(args: &InputArgs) -> Result<Config, CliError> {
     let unit = args.units.unwrap_or(LengthUnit::Metre);
-    Ok(layered(args, unit)?.0)
+    Ok(layered(args, unit, true)?.0)
 }
 
-/// The preset's name `args` selects: `--preset`, else `synpeb-auto` for the scene demo.
-pub fn preset_name(args: &InputArgs) -> Option<&str> {
+/// The preset `args` selects: `--preset`; else `synpeb-auto` for the scene demo; else,
+/// when neither `--preset` nor `--config` is given and the input is `organized`, the
+/// adaptive detector for its sensor: `rgbd-auto` for a depth image (`.png`),
+/// `synpeb-auto` for any other organized cloud (a range scan). Other inputs have no
+/// default preset: their lengths are derived from the data ([`config_for`]).
+pub fn preset_name(args: &InputArgs, organized: bool) -> Option<PresetChoice<'_>> {
     match (&args.preset, args.demo, &args.input) {
-        (Some(name), _, _) => Some(name.as_str()),
-        (None, Some(Demo::Scene), None) => Some("synpeb-auto"),
+        (Some(name), _, _) => Some(PresetChoice::Asked(name)),
+        (None, Some(Demo::Scene), None) => Some(PresetChoice::Asked("synpeb-auto")),
+        (None, None, Some(path)) if organized && args.config.is_none() => {
+            let depth_image = path
+                .extension()
+                .is_some_and(|e| e.eq_ignore_ascii_case("png"));
+            Some(if depth_image {
+                PresetChoice::Default("rgbd-auto", "depth images")
+            } else {
+                PresetChoice::Default("synpeb-auto", "organized clouds")
+            })
+        }
         _ => None,
     }
 }
 
+/// A preset and why it was chosen.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PresetChoice<'a> {
+    /// Named by `--preset` (or implied by a demo).
+    Asked(&'a str),
+    /// The default for a kind of input, named by the second field (no `--preset` and no
+    /// `--config` given).
+    Default(&'a str, &'static str),
+}
+
+impl<'a> PresetChoice<'a> {
+    /// The preset's name.
+    pub fn name(self) -> &'a str {
+        match self {
+            Self::Asked(name) | Self::Default(name, _) => name,
+        }
+    }
+}
+
 /// Preset (converted from metres into `unit`), config file, flags; and which lengths the
-/// file or the flags set.
-fn layered(args: &InputArgs, unit: LengthUnit) -> Result<(Config, Explicit), CliError> {
+/// file or the flags set. `organized` says whether the input is organized (its default
+/// preset, [`preset_name`]).
+fn layered(
+    args: &InputArgs,
+    unit: LengthUnit,
+    organized: bool,
+) -> Result<(Config, Explicit), CliError> {
     let mut explicit = Explicit::default();
-    let mut config = match preset_name(args) {
+    let mut config = match preset_name(args, organized).map(PresetChoice::name) {
         Some(name) => {
             let metres = Config::preset(name).ok_or_else(|| CliError::Preset {
                 name: name.to_owned(),
@@ -139,12 +177,19 @@ pub fn config_for(
         (None, Some(u)) => (u, UnitSource::Header),
         (None, None) => (LengthUnit::Metre, UnitSource::Assumed),
     };
-    let (mut config, explicit) = layered(args, unit)?;
+    let organized = matches!(input, Input::Organized(_));
+    let (mut config, explicit) = layered(args, unit, organized)?;
     if matches!(input, Input::Cloud(_)) {
         apply_mode(args, &mut config)?;
     }
-    let preset = preset_name(args).map(str::to_owned);
+    let choice = preset_name(args, organized);
+    let preset = choice.map(|c| c.name().to_owned());
     let mut notes = Vec::new();
+    if let Some(PresetChoice::Default(name, inputs)) = choice {
+        notes.push(format!(
+            "{name}: the default for {inputs} (--preset to choose another)"
+        ));
+    }
     let spacing = match input {
         Input::Points2d(points) => Some(polylidar::scale::median_spacing_2d(points)?),
         Input::Cloud(points) if config.unorganized.is_some() => {

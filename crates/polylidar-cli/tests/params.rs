@@ -170,3 +170,58 @@ fn flags_that_do_not_apply_are_reported() {
     );
     assert!(stderr.contains("warning: --up does not apply"), "{stderr}");
 }
+
+#[test]
+fn organized_input_gets_the_adaptive_preset_of_its_sensor() {
+    let (Some(depth), Some(camera)) = (
+        test_fixtures::fixture("rgbd/tum_depth.png"),
+        test_fixtures::fixture("rgbd/camera_primesense.json"),
+    ) else {
+        return;
+    };
+    let (depth, camera) = (depth.to_str().unwrap(), camera.to_str().unwrap());
+    let base = [
+        "extract",
+        depth,
+        "--intrinsics",
+        camera,
+        "--stride",
+        "4",
+        "--json",
+    ];
+    let preset = |extra: &[&str]| {
+        let args: Vec<&str> = base.iter().chain(extra).copied().collect();
+        json(&polylidar(&args))["parameters"]["preset"].clone()
+    };
+    // A depth image without --preset runs the depth cameras' adaptive preset.
+    assert_eq!(preset(&[]), "rgbd-auto");
+    // --preset wins, and a config file is the whole base: no preset is added under it.
+    assert_eq!(preset(&["--preset", "rgbd"]), "rgbd");
+    let dir = scratch("default-preset");
+    let toml = dir.join("params.toml");
+    std::fs::write(&toml, "min_triangles = 100\n").unwrap();
+    assert_eq!(
+        preset(&["--config", toml.to_str().unwrap()]),
+        serde_json::Value::Null
+    );
+
+    // Any other organized cloud (a range scan) runs the range scanners' one.
+    let cloud = dir.join("scan.npy");
+    let labels = dir.join("labels.npy");
+    let out = polylidar(&[
+        "generate",
+        "-o",
+        cloud.to_str().unwrap(),
+        "--labels-out",
+        labels.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{out:?}");
+    let out = json(&polylidar(&[
+        "extract",
+        cloud.to_str().unwrap(),
+        "--stride",
+        "5",
+        "--json",
+    ]));
+    assert_eq!(out["parameters"]["preset"], "synpeb-auto");
+}
