@@ -283,7 +283,8 @@ impl Polylidar {
     pub fn extract_scan(&self, points: &[[f64; 3]]) -> Result<Extraction, PolylidarError> {
         let section = self.config().scan.unwrap_or_default();
         let mut timings = Timings::default();
-        let prepared = timings.time("outliers", || section.prepare(points))?;
+        // The scan's own stages run in parallel on the pipeline's pool, as the later ones.
+        let prepared = timings.time("outliers", || self.install(|| section.prepare(points)))?;
         let mut extraction = match section.range_image_columns {
             None => {
                 let kept: Vec<[f64; 3]> = prepared.kept().map(|i| points[i as usize]).collect();
@@ -291,8 +292,9 @@ impl Polylidar {
             }
             Some(columns) => {
                 let cloud = timings.time("range_image", || {
-                    let image =
-                        RangeImage::build(points, &prepared.rings, columns).map_err(scan_error)?;
+                    let image = self
+                        .install(|| RangeImage::build(points, &prepared.rings, columns))
+                        .map_err(scan_error)?;
                     Ok::<_, PolylidarError>(OrganizedPointCloud::new(
                         image.rows,
                         image.cols,

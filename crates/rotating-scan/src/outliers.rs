@@ -2,6 +2,8 @@
 //! own beam lie on one flat surface, and which itself lies far off that surface, is a
 //! spurious return.
 
+use rayon::prelude::*;
+
 use crate::{Rings, ScanError};
 
 /// Parameters of [`beam_outliers`]. Lengths in the cloud's unit (metres for LiDAR).
@@ -108,7 +110,8 @@ impl BeamOutlierConfig {
 ///
 /// Every point is judged against the input (an outlier's neighbour is not judged without
 /// it), so the result does not depend on the order points are visited in. The first and
-/// last `neighbours` points of a beam are never outliers.
+/// last `neighbours` points of a beam are never outliers. Beams are judged in parallel on
+/// the current rayon pool; the result is the same for any number of threads.
 ///
 /// ```
 /// use rotating_scan::{BeamOutlierConfig, Rings, beam_outliers};
@@ -141,43 +144,58 @@ pub fn beam_outliers(
             points: points.len(),
         });
     }
+    let rings: Vec<&[u32]> = rings.iter().collect();
+    // Beams in parallel, each with a reused buffer; the order of the result is the rings'.
+    let per_ring: Vec<Vec<u32>> = rings
+        .par_iter()
+        .map_init(Vec::new, |close, ring| {
+            ring_outliers(points, ring, config, close)
+        })
+        .collect();
+    Ok(per_ring.concat())
+}
+
+/// The outliers of one beam; `close` is scratch space.
+fn ring_outliers(
+    points: &[[f64; 3]],
+    ring: &[u32],
+    config: &BeamOutlierConfig,
+    close: &mut Vec<bool>,
+) -> Vec<u32> {
     let k = config.neighbours;
     let gap2 = config.max_gap * config.max_gap;
     let flat2 = config.flat_tolerance * config.flat_tolerance;
     let dev2 = config.min_deviation * config.min_deviation;
     let mut out = Vec::new();
-    for ring in rings.iter() {
-        if ring.len() < 2 * k + 1 {
+    if ring.len() < 2 * k + 1 {
+        return out;
+    }
+    let at = |j: usize| points[ring[j] as usize];
+    // Whether consecutive samples j and j + 1 are close enough to be one surface.
+    close.clear();
+    close.extend((0..ring.len() - 1).map(|j| dist2(&at(j), &at(j + 1)) <= gap2));
+    for j in k..ring.len() - k {
+        // Neighbours j-k..j-1 and j+1..j+k, consecutive gaps small; the gap across the
+        // point is judged between its two neighbours.
+        let left_close = close[j - k..j - 1].iter().all(|&c| c);
+        let right_close = close[j + 1..j + k].iter().all(|&c| c);
+        if !(left_close && right_close) {
             continue;
         }
-        let at = |j: usize| points[ring[j] as usize];
-        // Whether consecutive samples j and j + 1 are close enough to be one surface.
-        let close: Vec<bool> = (0..ring.len() - 1)
-            .map(|j| dist2(&at(j), &at(j + 1)) <= gap2)
-            .collect();
-        for j in k..ring.len() - k {
-            // Neighbours j-k..j-1 and j+1..j+k, consecutive gaps small; the gap across the
-            // point is judged between its two neighbours.
-            let left_close = close[j - k..j - 1].iter().all(|&c| c);
-            let right_close = close[j + 1..j + k].iter().all(|&c| c);
-            if !(left_close && right_close) {
-                continue;
-            }
-            let a = at(j - 1);
-            let b = at(j + 1);
-            let ab2 = dist2(&a, &b);
-            if ab2 > 4.0 * gap2 || ab2 == 0.0 {
-                continue;
-            }
-            let flat = (2..=k).all(|d| {
-                line_dist2(&at(j - d), &a, &b) <= flat2 && line_dist2(&at(j + d), &a, &b) <= flat2
-            });
-            if flat && line_dist2(&at(j), &a, &b) > dev2 {
-                out.push(ring[j]);
-            }
+        let a = at(j - 1);
+        let b = at(j + 1);
+        let ab2 = dist2(&a, &b);
+        if ab2 > 4.0 * gap2 || ab2 == 0.0 {
+            continue;
+        }
+        let flat = (2..=k).all(|d| {
+            line_dist2(&at(j - d), &a, &b) <= flat2 && line_dist2(&at(j + d), &a, &b) <= flat2
+        });
+        if flat && line_dist2(&at(j), &a, &b) > dev2 {
+            out.push(ring[j]);
         }
     }
-    Ok(out)
+    out
 }
 
 #[inline]

@@ -3,7 +3,9 @@
 
 use std::f64::consts::{PI, TAU};
 
-use crate::rings::azimuth;
+use rayon::prelude::*;
+
+use crate::rings::{PARALLEL_CHUNK, azimuth};
 use crate::{Rings, ScanError};
 
 /// Marks a pixel with no point in [`RangeImage::source`].
@@ -67,36 +69,30 @@ impl RangeImage {
                 reason: "needs at least one column and fewer than 2^32 pixels",
             });
         };
-        let mut source = vec![NO_POINT; pixels];
-        let mut range2 = vec![f64::INFINITY; pixels];
-        let mut collisions = 0;
-        let scale = cols as f64 / TAU;
-        for (r, ring) in rings.iter().enumerate() {
-            for &i in ring {
-                let Some(p) = points.get(i as usize) else {
-                    return Err(ScanError::MemberOutOfRange {
-                        index: i,
-                        points: points.len(),
-                    });
-                };
-                // Clockwise from straight behind: azimuth π → 0, 0 → cols / 2.
-                let turn = (PI - azimuth(p)).rem_euclid(TAU);
-                let c = ((turn * scale) as usize).min(cols - 1);
-                let pixel = r * cols + c;
-                let d2 = p[0] * p[0] + p[1] * p[1] + p[2] * p[2];
-                if source[pixel] != NO_POINT {
-                    collisions += 1;
-                    if d2 >= range2[pixel] {
-                        continue;
-                    }
-                }
-                source[pixel] = i;
-                range2[pixel] = d2;
-            }
+        if let Some(&index) = rings
+            .iter()
+            .flatten()
+            .find(|&&i| i as usize >= points.len())
+        {
+            return Err(ScanError::MemberOutOfRange {
+                index,
+                points: points.len(),
+            });
         }
+        // Row r holds beam r only: the rows are filled in parallel.
+        let mut source = vec![NO_POINT; pixels];
+        let rings: Vec<&[u32]> = rings.iter().collect();
+        let collisions = source
+            .par_chunks_mut(cols)
+            .zip(rings.par_iter())
+            .map_init(Vec::new, |range2, (row, ring)| {
+                fill_row(points, ring, row, range2)
+            })
+            .sum();
         let nan = [f64::NAN; 3];
         let points = source
-            .iter()
+            .par_iter()
+            .with_min_len(PARALLEL_CHUNK)
             .map(|&i| points.get(i as usize).copied().unwrap_or(nan))
             .collect();
         Ok(Self {
@@ -112,6 +108,36 @@ impl RangeImage {
     pub fn valid(&self) -> usize {
         self.source.iter().filter(|&&i| i != NO_POINT).count()
     }
+}
+
+/// Fills one row of the image (`row`: its pixels' sources, all [`NO_POINT`]) with the
+/// points of one beam, the nearest kept where two share a pixel; `range2` is scratch space.
+/// Returns the points left out for a nearer one. Members past `points` are skipped (the
+/// caller has refused them).
+fn fill_row(points: &[[f64; 3]], ring: &[u32], row: &mut [u32], range2: &mut Vec<f64>) -> usize {
+    let cols = row.len();
+    range2.clear();
+    range2.resize(cols, f64::INFINITY);
+    let scale = cols as f64 / TAU;
+    let mut collisions = 0;
+    for &i in ring {
+        let Some(p) = points.get(i as usize) else {
+            continue;
+        };
+        // Clockwise from straight behind: azimuth π → 0, 0 → cols / 2.
+        let turn = (PI - azimuth(p)).rem_euclid(TAU);
+        let c = ((turn * scale) as usize).min(cols - 1);
+        let d2 = p[0] * p[0] + p[1] * p[1] + p[2] * p[2];
+        if row[c] != NO_POINT {
+            collisions += 1;
+            if d2 >= range2[c] {
+                continue;
+            }
+        }
+        row[c] = i;
+        range2[c] = d2;
+    }
+    collisions
 }
 
 fn median_ring_size(rings: &Rings) -> usize {

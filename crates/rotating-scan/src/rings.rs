@@ -2,6 +2,8 @@
 
 use std::f64::consts::{PI, TAU};
 
+use rayon::prelude::*;
+
 use crate::ScanError;
 
 /// Most beams [`Rings::from_firing_order`] accepts before it calls the order broken (the
@@ -11,6 +13,9 @@ pub const MAX_BEAMS: usize = 256;
 /// A negative azimuth step up to this (radians, 10°) is jitter within a sweep; a larger
 /// one means the sweep went on past a stretch without returns, round to the next beam.
 const JITTER: f64 = 10.0 * PI / 180.0;
+
+/// Points per parallel task where points are mapped one by one.
+pub(crate) const PARALLEL_CHUNK: usize = 4096;
 
 /// The points of each beam, in sweep order (increasing azimuth, as the sensor turns).
 ///
@@ -189,7 +194,16 @@ impl Rings {
         if taken.is_empty() {
             return Ok(Self::default());
         }
-        let steps = forward_steps(points, &taken);
+        // The azimuths, the costly part, in parallel (the current rayon pool).
+        let azimuths: Vec<Option<f64>> = taken
+            .par_iter()
+            .with_min_len(PARALLEL_CHUNK)
+            .map(|&i| {
+                let p = &points[i as usize];
+                (p[0] != 0.0 || p[1] != 0.0).then(|| azimuth(p))
+            })
+            .collect();
+        let steps = forward_steps(&azimuths);
         let mut positive: Vec<f64> = steps.iter().copied().filter(|&s| s > 0.0).collect();
         let half_step = if positive.is_empty() {
             0.0
@@ -355,19 +369,19 @@ impl Rings {
     }
 }
 
-/// Azimuth step from each point to the next, as the sensor turns: a backward step of more
-/// than [`JITTER`] is taken the long way round. Points on the axis step by 0.
-fn forward_steps(points: &[[f64; 3]], taken: &[u32]) -> Vec<f64> {
-    let mut steps = Vec::with_capacity(taken.len().saturating_sub(1));
+/// Azimuth step from each point to the next, as the sensor turns, from the points'
+/// azimuths (`None` on the axis): a backward step of more than [`JITTER`] is taken the
+/// long way round. Points on the axis step by 0.
+fn forward_steps(azimuths: &[Option<f64>]) -> Vec<f64> {
+    let mut steps = Vec::with_capacity(azimuths.len().saturating_sub(1));
     let mut last: Option<f64> = None;
-    for p in taken.iter().map(|&i| &points[i as usize]) {
-        if p[0] == 0.0 && p[1] == 0.0 {
+    for &a in azimuths {
+        let Some(a) = a else {
             if last.is_some() {
                 steps.push(0.0);
             }
             continue;
-        }
-        let a = azimuth(p);
+        };
         if let Some(prev) = last {
             let mut d = a - prev;
             // Into (−π, π], then backward steps beyond the jitter go forward round.
@@ -384,7 +398,7 @@ fn forward_steps(points: &[[f64; 3]], taken: &[u32]) -> Vec<f64> {
         last = Some(a);
     }
     // Leading points on the axis step by nothing (they join beam 0).
-    let missing = taken.len().saturating_sub(1) - steps.len();
+    let missing = azimuths.len().saturating_sub(1) - steps.len();
     let mut out = vec![0.0; missing];
     out.extend(steps);
     out
