@@ -34,26 +34,40 @@ pub(crate) struct CdtOutput {
 /// # Errors
 /// [`MeshError::Triangulation`] when `spade` rejects a point (non-finite or out of range).
 pub(crate) fn triangulate(input: &CdtInput<'_>) -> Result<CdtOutput, MeshError> {
-    let vertices: Vec<Point2<f64>> = input
-        .points
+    let n = input.points.len();
+    // `order[rank]` is the input index of the vertex spade sees at `rank`.
+    let order = bulk_load_order(input.points);
+    let mut rank = vec![0u32; n];
+    for (r, &i) in order.iter().enumerate() {
+        rank[i as usize] = r as u32;
+    }
+    let vertices: Vec<Point2<f64>> = order
         .iter()
-        .map(|p| Point2::new(p[0], p[1]))
+        .map(|&i| {
+            let p = input.points[i as usize];
+            Point2::new(p[0], p[1])
+        })
         .collect();
-    let edges: Vec<[usize; 2]> = input
+    // Each edge from its farther vertex (the lower rank, inserted later), sorted by it.
+    let mut edges: Vec<[usize; 2]> = input
         .ring_edges
         .iter()
         .chain(input.outline_edges)
         .filter(|e| e[0] != e[1])
-        .map(|e| [e[0] as usize, e[1] as usize])
+        .map(|e| {
+            let [a, b] = e.map(|v| rank[v as usize] as usize);
+            [a.min(b), a.max(b)]
+        })
         .collect();
+    edges.sort_unstable();
     let mut conflicting = Vec::new();
     let mut cdt = Cdt::try_bulk_load_cdt(vertices, edges, |e| conflicting.push(e))
         .map_err(|e| MeshError::Triangulation(e.to_string()))?;
-    if cdt.num_vertices() != input.points.len() {
+    if cdt.num_vertices() != n {
         return Err(MeshError::Triangulation(format!(
             "{} of {} points are distinct",
             cdt.num_vertices(),
-            input.points.len()
+            n
         )));
     }
     // Crossing constraints (a ring that crosses itself after projection onto the fitted
@@ -65,22 +79,64 @@ pub(crate) fn triangulate(input: &CdtInput<'_>) -> Result<CdtOutput, MeshError> 
             |p| p,
         );
     }
-    let kept = keep_between(&cdt, input);
+    // Spade's vertex index back to the input's (added points keep theirs).
+    let original = |v: usize| order.get(v).map_or(v as u32, |&i| i);
+    let kept = keep_between(&cdt, input, original);
     Ok(CdtOutput {
         triangles: kept,
         added: cdt
             .vertices()
-            .skip(input.points.len())
+            .skip(n)
             .map(|v| [v.position().x, v.position().y])
             .collect(),
     })
 }
 
+/// The vertex order in which `spade`'s bulk loading sorts (farthest from the points' mean
+/// first, then by x and y): handing the points over in it makes that sort a linear scan.
+/// The mean is summed in the order spade will sum it; should the reordering change it by a
+/// rounding, spade sorts again and the result is the same.
+fn bulk_load_order(points: &[[f64; 2]]) -> Vec<u32> {
+    let mean = |order: &mut dyn Iterator<Item = usize>| {
+        let mut sum = [0.0f64; 2];
+        for i in order {
+            sum[0] += points[i][0];
+            sum[1] += points[i][1];
+        }
+        let inv = 1.0 / points.len() as f64;
+        [sum[0] * inv, sum[1] * inv]
+    };
+    let mut order: Vec<u32> = (0..points.len() as u32).collect();
+    let mut centre = mean(&mut (0..points.len()));
+    for _ in 0..3 {
+        let mut keyed: Vec<(f64, f64, f64, u32)> = order
+            .iter()
+            .map(|&i| {
+                let p = points[i as usize];
+                let (dx, dy) = (p[0] - centre[0], p[1] - centre[1]);
+                (dx * dx + dy * dy, p[0], p[1], i)
+            })
+            .collect();
+        keyed.sort_unstable_by(|a, b| {
+            b.0.total_cmp(&a.0)
+                .then(a.1.total_cmp(&b.1))
+                .then(a.2.total_cmp(&b.2))
+        });
+        order = keyed.into_iter().map(|k| k.3).collect();
+        let again = mean(&mut order.iter().map(|&i| i as usize));
+        if again == centre {
+            break;
+        }
+        centre = again;
+    }
+    order
+}
+
 /// The inner faces inside the rings and outside the outline (flood fill with parities).
-fn keep_between(cdt: &Cdt, input: &CdtInput<'_>) -> Vec<[u32; 3]> {
-    let first = input.first_outline as usize;
-    let original = input.points.len();
-    let is_outline = |a: usize, b: usize| a >= first && b >= first && a < original && b < original;
+fn keep_between(cdt: &Cdt, input: &CdtInput<'_>, original: impl Fn(usize) -> u32) -> Vec<[u32; 3]> {
+    let first = input.first_outline;
+    let n = input.points.len() as u32;
+    let is_outline = |a: u32, b: u32| a >= first && b >= first && a < n && b < n;
     // State per face (index 0 = outer): bit 0 inside polygon, bit 1 inside interior, bit 2 seen.
     let mut state = vec![0u8; cdt.num_inner_faces() + 1];
     let outer = cdt.outer_face();
@@ -108,7 +164,7 @@ fn keep_between(cdt: &Cdt, input: &CdtInput<'_>) -> Vec<[u32; 3]> {
             }
             let mut s = here & 3;
             if e.as_undirected().data().is_constraint_edge() {
-                let [a, b] = e.vertices().map(|v| v.fix().index());
+                let [a, b] = e.vertices().map(|v| original(v.fix().index()));
                 s ^= if is_outline(a, b) { 2 } else { 1 };
             }
             state[n] = s | 4;
@@ -117,7 +173,7 @@ fn keep_between(cdt: &Cdt, input: &CdtInput<'_>) -> Vec<[u32; 3]> {
     }
     cdt.inner_faces()
         .filter(|f| state[f.fix().index()] & 3 == 1)
-        .map(|f| f.vertices().map(|v| v.fix().index() as u32))
+        .map(|f| f.vertices().map(|v| original(v.fix().index())))
         .collect()
 }
 

@@ -53,9 +53,6 @@ pub enum MeshError {
     /// The constrained Delaunay triangulation rejected a vertex (out of `spade`'s range).
     #[error("constrained Delaunay triangulation: {0}")]
     Triangulation(String),
-    /// The k-d tree over the coloured points could not be built.
-    #[error("k-d tree of the coloured points: {0}")]
-    KdTree(String),
     /// A PNG could not be encoded.
     #[error("PNG encoding: {0}")]
     Png(String),

@@ -18,7 +18,7 @@
 //!    the paper's boundary-only baseline;
 //! 4. **texture** (§V, Alg. 1–2, [`TextureOptions`]): a picture of the plane at `r` texels
 //!    per unit length (the paper's 100 per metre, or from the point density), every texel
-//!    inside the polygon coloured by its nearest point (a `kiddo` k-d tree), and uv
+//!    inside the polygon coloured by its nearest point (a uniform grid of the points), and uv
 //!    coordinates for every vertex.
 //!
 //! Planes are independent: [`simplify_all`] runs them on rayon's pool, and [`merge`] makes
@@ -58,6 +58,7 @@ mod error;
 pub mod export;
 mod frame;
 mod merge;
+mod nearest;
 mod outline;
 mod polygon;
 mod quadtree;

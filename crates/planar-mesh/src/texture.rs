@@ -1,10 +1,11 @@
 //! Texture generation (§V, Alg. 1–2): a picture of the plane at `r` texels per unit
-//! length, each texel inside the polygon coloured by its nearest point.
+//! length, each texel inside the polygon coloured by its nearest point
+//! (ties to the point listed first).
 
-use kiddo::{ImmutableKdTree, SquaredEuclidean};
 use rayon::prelude::*;
 
 use crate::MeshError;
+use crate::nearest::PointGrid;
 use crate::polygon::Polygon2;
 
 /// How many texels per unit length (per metre for metric input) a texture gets.
@@ -166,7 +167,7 @@ fn texels_per_unit(options: &TextureOptions, polygon: &Polygon2, points: usize) 
 /// The texture of `polygon` from `points` (plane coordinates) and their `colors`.
 ///
 /// # Errors
-/// [`MeshError::KdTree`] when the k-d tree cannot be built.
+/// [`MeshError::TooFewPoints`] without points.
 pub(crate) fn generate(
     polygon: &Polygon2,
     points: &[[f64; 2]],
@@ -208,8 +209,9 @@ pub(crate) fn generate(
     if options.bleed {
         bleed(&mut mask, w, height as usize);
     }
-    let tree: ImmutableKdTree<f64, 2> =
-        ImmutableKdTree::new_from_slice(points).map_err(|e| MeshError::KdTree(e.to_string()))?;
+    // About two points per cell: a texel's search usually ends after the 3 × 3 cells
+    // around it.
+    let grid = PointGrid::new(points, polygon.area(), 2.0).ok_or(MeshError::TooFewPoints(0))?;
     let mut rgb = std::mem::take(&mut texture.rgb);
     let centre = |col: usize, row: usize| texture.texel_center(col as u32, row as u32);
     rgb.par_chunks_mut(3 * w)
@@ -217,15 +219,10 @@ pub(crate) fn generate(
         .enumerate()
         .for_each(|(row, (line, m))| {
             for (col, texel) in line.chunks_exact_mut(3).enumerate() {
-                if m[col] == 0 {
-                    continue;
+                if m[col] != 0 {
+                    let nearest = grid.nearest(centre(col, row));
+                    texel.copy_from_slice(&colors[nearest as usize]);
                 }
-                let q = centre(col, row);
-                let nearest = tree
-                    .query(&q)
-                    .nearest_one::<SquaredEuclidean<f64>>()
-                    .execute();
-                texel.copy_from_slice(&colors[nearest.item as usize]);
             }
         });
     texture.rgb = rgb;

@@ -1,0 +1,135 @@
+//! Simplifies segments dumped by `polylidar-benches`' `planar_mesh_frame` example
+//! (`PLANAR_MESH_DUMP=FILE`), for profiling this crate alone: `RUNS` runs of
+//! [`simplify_all`] on a pool of `THREADS` threads, the median wall time, and a summary
+//! of the output (vertices, triangles, area, texels, a checksum of the textures).
+//!
+//! ```text
+//! cargo run --release -p planar-mesh --example profile_segments -- FILE [THREADS] [RUNS] [polygon|point] [texture|plain]
+//! ```
+
+#![allow(clippy::expect_used, clippy::print_stdout, clippy::unwrap_used)]
+
+use std::time::Instant;
+
+use planar_mesh::{MeshOptions, Method, Segment, TextureOptions, simplify_all};
+
+/// One dumped segment.
+struct Dumped {
+    points: Vec<[f64; 3]>,
+    colors: Vec<[u8; 3]>,
+    shell: Vec<[f64; 3]>,
+    holes: Vec<Vec<[f64; 3]>>,
+}
+
+struct Reader<'a>(&'a [u8]);
+
+impl Reader<'_> {
+    fn take(&mut self, n: usize) -> &[u8] {
+        let (head, tail) = self.0.split_at(n);
+        self.0 = tail;
+        head
+    }
+    fn u32(&mut self) -> usize {
+        u32::from_le_bytes(self.take(4).try_into().unwrap()) as usize
+    }
+    fn ring(&mut self) -> Vec<[f64; 3]> {
+        let n = self.u32();
+        (0..n)
+            .map(|_| std::array::from_fn(|_| f64::from_le_bytes(self.take(8).try_into().unwrap())))
+            .collect()
+    }
+}
+
+fn read(path: &str) -> Vec<Dumped> {
+    let bytes = std::fs::read(path).expect("a readable dump");
+    let mut r = Reader(&bytes);
+    let n = r.u32();
+    (0..n)
+        .map(|_| {
+            let points = r.ring();
+            let colors = (0..points.len())
+                .map(|_| r.take(3).try_into().unwrap())
+                .collect();
+            let shell = r.ring();
+            let holes = (0..r.u32()).map(|_| r.ring()).collect();
+            Dumped {
+                points,
+                colors,
+                shell,
+                holes,
+            }
+        })
+        .collect()
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let arg = |k: usize, default: &str| args.get(k).cloned().unwrap_or_else(|| default.into());
+    let dumped = read(&arg(0, "/tmp/segments.bin"));
+    let threads: usize = arg(1, "1").parse().expect("a thread count");
+    let runs: usize = arg(2, "15").parse().expect("a run count");
+    let method = match arg(3, "polygon").as_str() {
+        "point" => Method::Point,
+        _ => Method::Polygon,
+    };
+    let textured = arg(4, "texture") == "texture";
+    let segments: Vec<Segment<'_>> = dumped
+        .iter()
+        .map(|d| Segment::new(&d.points, &d.shell, &d.holes).with_colors(&d.colors))
+        .collect();
+    let mut options = MeshOptions::new()
+        .with_method(method)
+        .with_parallel(threads > 1);
+    if textured {
+        options = options.with_texture(TextureOptions::new());
+    }
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .expect("a thread pool");
+    let mut times = Vec::with_capacity(runs);
+    let mut last = Vec::new();
+    for _ in 0..runs {
+        let start = Instant::now();
+        last = pool.install(|| simplify_all(&segments, &options));
+        times.push(start.elapsed().as_secs_f64() * 1e3);
+    }
+    times.sort_by(f64::total_cmp);
+    let (mut vertices, mut boundary, mut triangles, mut area, mut texels, mut sum) =
+        (0, 0, 0, 0.0, 0u64, 0u64);
+    let mut failed = 0;
+    for p in &last {
+        let Ok(p) = p else {
+            failed += 1;
+            continue;
+        };
+        vertices += p.vertices.len();
+        boundary += p.stats.boundary_vertices;
+        triangles += p.triangles.len();
+        area += p
+            .triangles
+            .iter()
+            .map(|t| {
+                let [a, b, c] = t.map(|v| p.vertices_2d[v as usize]);
+                0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]))
+            })
+            .sum::<f64>();
+        if let Some(t) = &p.texture {
+            texels += u64::from(t.width) * u64::from(t.height);
+            sum = t
+                .rgb
+                .iter()
+                .fold(sum, |s, &b| s.wrapping_mul(31).wrapping_add(u64::from(b)));
+        }
+    }
+    println!(
+        "planes {} failed {failed} vertices {vertices} boundary {boundary} triangles {triangles} area {area:.9} texels {texels} checksum {sum:x}",
+        last.len()
+    );
+    println!(
+        "median {:.2} ms (min {:.2}, max {:.2}) over {runs} runs on {threads} threads",
+        times[runs / 2],
+        times[0],
+        times[runs - 1]
+    );
+}
