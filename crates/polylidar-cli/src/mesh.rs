@@ -7,14 +7,15 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use clap::{Args, ValueEnum};
+use polylidar::io::{CameraSource, DepthCamera};
 use polylidar::planar_mesh::{
     Depth, MergedMesh, MeshOptions, Method, Packing, Resolution, TextureOptions, export,
 };
-use polylidar::{DepthOptions, Extraction, Intrinsics, OrganizedPointCloud, Polylidar};
+use polylidar::{Extraction, Intrinsics, Polylidar};
 use polylidar_io::{ColorImage, Format};
 
-use crate::args::InputArgs;
-use crate::input::{Input, Loaded, load};
+use crate::args::{CameraArgs, InputArgs};
+use crate::input::{Input, Loaded, camera, load_with_camera};
 use crate::outputs::Outputs;
 use crate::params;
 use crate::run::{CliError, Outcome, on_input, record_inputs, run_once};
@@ -22,8 +23,7 @@ use crate::run::{CliError, Outcome, on_input, record_inputs, run_once};
 /// Arguments of `polylidar mesh`.
 #[derive(Debug, Args)]
 pub struct MeshArgs {
-    /// The input and the parameters of the plane extraction (as `extract`). A 16-bit depth
-    /// PNG may come with `--intrinsics` instead of a `_metadata.csv`.
+    /// The input and the parameters of the plane extraction (as `extract`).
     #[command(flatten)]
     pub input: InputArgs,
     /// The mesh, as Wavefront OBJ; beside it `<name>.mtl`, the texture `<name>.png` (or
@@ -58,19 +58,9 @@ pub struct MeshArgs {
     /// The colour picture of a depth PNG (8-bit PNG or JPEG of the same size).
     #[arg(long, value_name = "FILE", help_heading = "Mesh")]
     pub color: Option<PathBuf>,
-    /// Camera intrinsics of a depth PNG: an Open3D camera JSON (`width`, `height`,
-    /// `intrinsic_matrix`) or a RealSense `_metadata.csv`.
-    #[arg(long, value_name = "FILE", help_heading = "Mesh")]
-    pub intrinsics: Option<PathBuf>,
-    /// Depth PNG with `--intrinsics`: depth units per metre (1000 for millimetres, 5000
-    /// for the TUM RGB-D benchmark).
-    #[arg(
-        long,
-        value_name = "UNITS",
-        default_value_t = 1000.0,
-        help_heading = "Mesh"
-    )]
-    pub depth_scale: f64,
+    /// The camera of a depth PNG input (as `extract`).
+    #[command(flatten)]
+    pub camera: CameraArgs,
     /// Draw the textured mesh with its wireframe into a PNG: from the camera for depth
     /// images, else an oblique orthographic view.
     #[arg(long, value_name = "FILE", help_heading = "Mesh")]
@@ -113,10 +103,12 @@ struct Frame {
 pub fn mesh(args: &MeshArgs) -> Result<Outcome, CliError> {
     let mut outputs = Outputs::new();
     record_inputs(&mut outputs, &args.input);
-    for (what, path) in [("--color", &args.color), ("--intrinsics", &args.intrinsics)] {
-        if let Some(path) = path {
-            outputs.input(&format!("the {what} file"), path);
-        }
+    if let Some(path) = &args.color {
+        outputs.input("the --color file", path);
+    }
+    let camera = camera(&args.camera)?;
+    if let CameraSource::File(path) = &camera.source {
+        outputs.input("the --intrinsics file", path);
     }
     let names = MeshNames::new(&args.output);
     outputs.plan("-o", &args.output)?;
@@ -130,7 +122,7 @@ pub fn mesh(args: &MeshArgs) -> Result<Outcome, CliError> {
     }
     let stride = args.input.stride as usize;
     let path = args.input.input.as_deref();
-    let (Loaded { input, source, .. }, frame) = load_input(args, path, stride)?;
+    let (Loaded { input, source, .. }, frame) = load_input(args, &camera, path, stride)?;
     let chosen = params::config_for(&args.input, &input, None)?;
     params::check_kernels(&chosen.config, &input, &source)?;
     let polylidar = Polylidar::new(chosen.config.clone())?;
@@ -208,114 +200,38 @@ fn mesh_options(args: &MeshArgs) -> Result<MeshOptions, CliError> {
     Ok(options)
 }
 
-/// The input, reading a depth PNG with `--intrinsics` here (without them the shared
-/// loader wants a RealSense `_metadata.csv`).
+/// The input, a depth PNG read with `camera` (`--intrinsics`, `--depth-scale`, as
+/// `extract`), and for `--plot` the intrinsics of the cloud at the stride's resolution.
 fn load_input(
     args: &MeshArgs,
+    camera: &DepthCamera,
     path: Option<&Path>,
     stride: usize,
 ) -> Result<(Loaded, Frame), CliError> {
+    let loaded = load_with_camera(path, args.input.demo, stride, args.input.max_memory, camera)?;
     let depth_png = path.filter(|p| polylidar_io::format_of(p) == Some(Format::DepthPng));
-    let (Some(png), Some(camera_file)) = (depth_png, args.intrinsics.as_deref()) else {
-        let loaded = load(path, args.input.demo, stride, args.input.max_memory)?;
-        let camera = match (depth_png, &loaded.input) {
-            (Some(png), Input::Organized(cloud)) => {
-                let k =
-                    polylidar_io::read_realsense_intrinsics(polylidar_io::metadata_path_for(png)?)?;
-                Some((
-                    Intrinsics::new(
-                        k.fx / stride as f64,
-                        k.fy / stride as f64,
-                        k.ppx / stride as f64,
-                        k.ppy / stride as f64,
-                    ),
-                    cloud.cols(),
-                    cloud.rows(),
-                ))
-            }
-            _ => None,
-        };
-        return Ok((loaded, Frame { camera }));
+    let camera = match (depth_png, &loaded.input) {
+        (Some(png), Input::Organized(cloud)) => {
+            let k = match &camera.source {
+                CameraSource::Pinhole(k) => *k,
+                CameraSource::File(file) => {
+                    Intrinsics::from(&polylidar_io::read_camera_file(file)?)
+                }
+                CameraSource::Beside => Intrinsics::from(&polylidar_io::read_camera_file(
+                    polylidar_io::metadata_path_for(png)?,
+                )?),
+            };
+            // Every stride-th pixel: the intrinsics shrink by the stride.
+            let s = stride as f64;
+            Some((
+                Intrinsics::new(k.fx / s, k.fy / s, k.ppx / s, k.ppy / s),
+                cloud.cols(),
+                cloud.rows(),
+            ))
+        }
+        _ => None,
     };
-    if !(args.depth_scale.is_finite() && args.depth_scale > 0.0) {
-        return Err(CliError::Unsupported {
-            what: format!(
-                "--depth-scale {}: depth units per metre (> 0)",
-                args.depth_scale
-            ),
-        });
-    }
-    let image = polylidar_io::read_depth_png(png)?;
-    let (fx, fy, cx, cy) = read_intrinsics(camera_file, image.width, image.height)?;
-    let options = DepthOptions::new(Intrinsics::new(fx, fy, cx, cy))
-        .with_depth_scale(1.0 / args.depth_scale)
-        .with_stride(stride);
-    let cloud =
-        OrganizedPointCloud::from_depth_image(&image.data, image.height, image.width, &options)?;
-    let s = stride as f64;
-    let camera = Some((
-        Intrinsics::new(fx / s, fy / s, cx / s, cy / s),
-        cloud.cols(),
-        cloud.rows(),
-    ));
-    Ok((
-        Loaded {
-            input: Input::Organized(cloud),
-            source: png.display().to_string(),
-            truth: None,
-        },
-        Frame { camera },
-    ))
-}
-
-/// `(fx, fy, cx, cy)` from an Open3D camera JSON or a RealSense metadata CSV, checked
-/// against the image size.
-fn read_intrinsics(
-    path: &Path,
-    width: usize,
-    height: usize,
-) -> Result<(f64, f64, f64, f64), CliError> {
-    let bad = |message: String| CliError::Config {
-        path: path.to_path_buf(),
-        message,
-    };
-    let is_json = path
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("json"));
-    let (w, h, k) = if is_json {
-        let text = std::fs::read_to_string(path).map_err(|e| bad(e.to_string()))?;
-        let value: serde_json::Value =
-            serde_json::from_str(&text).map_err(|e| bad(e.to_string()))?;
-        let size = |key: &str| {
-            value
-                .get(key)
-                .and_then(serde_json::Value::as_u64)
-                .map(|v| v as usize)
-        };
-        let matrix: Vec<f64> = value
-            .get("intrinsic_matrix")
-            .and_then(serde_json::Value::as_array)
-            .map(|a| a.iter().filter_map(serde_json::Value::as_f64).collect())
-            .unwrap_or_default();
-        let (Some(w), Some(h), [fx, _, _, _, fy, _, cx, cy, _]) =
-            (size("width"), size("height"), matrix.as_slice())
-        else {
-            return Err(bad(
-                "expected `width`, `height` and a 9-number column-major `intrinsic_matrix`"
-                    .to_owned(),
-            ));
-        };
-        (w, h, (*fx, *fy, *cx, *cy))
-    } else {
-        let k = polylidar_io::read_realsense_intrinsics(path)?;
-        (k.width, k.height, (k.fx, k.fy, k.ppx, k.ppy))
-    };
-    if (w, h) != (width, height) {
-        return Err(bad(format!(
-            "intrinsics for {w} × {h}, the depth image is {width} × {height}"
-        )));
-    }
-    Ok(k)
+    Ok((loaded, Frame { camera }))
 }
 
 /// One colour per vertex of the extraction's mesh, from the input's own colours.

@@ -149,3 +149,102 @@ fn a_texture_without_colours_is_a_clear_error() {
     );
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// `polylidar mesh` takes the camera of a depth PNG as `extract` does: `--intrinsics` as
+/// four numbers, an Open3D camera JSON or a RealSense metadata CSV (named, or found
+/// beside the PNG), and `--depth-scale`; each gives the same mesh of the same frame.
+#[test]
+fn every_camera_source_gives_the_same_mesh() {
+    let (Some(depth), Some(camera)) = (
+        test_fixtures::fixture("rgbd/icl_living_depth_00000.png"),
+        test_fixtures::fixture("rgbd/camera_primesense.json"),
+    ) else {
+        test_fixtures::record_skip("polylidar mesh camera sources: ICL frame missing");
+        return;
+    };
+    let dir = temp_dir("camera");
+    // The frame with a RealSense CSV beside it (PrimeSense intrinsics, millimetres).
+    std::fs::copy(&depth, dir.join("frame.png")).unwrap();
+    std::fs::write(
+        dir.join("frame_metadata.csv"),
+        "Resolution x,640\nResolution y,480\nFx,525\nFy,525\nPPx,319.5\nPPy,239.5\nDepth Units,0.001\n",
+    )
+    .unwrap();
+    let (depth, camera) = (depth.display().to_string(), camera.display().to_string());
+    let mesh = |name: &str, input: &str, camera: &[&str]| -> String {
+        let obj = format!("{name}.obj");
+        let mut args = vec![
+            "mesh",
+            input,
+            "--preset",
+            "synpeb-auto",
+            "--stride",
+            "4",
+            "-o",
+            &obj,
+        ];
+        args.extend_from_slice(camera);
+        let out = polylidar(&dir, &args);
+        assert!(
+            out.status.success(),
+            "{name}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        std::fs::read_to_string(dir.join(&obj)).unwrap()
+    };
+    let numbers = mesh(
+        "numbers",
+        &depth,
+        &[
+            "--intrinsics",
+            "525,525,319.5,239.5",
+            "--depth-scale",
+            "1000",
+        ],
+    );
+    assert!(numbers.lines().filter(|l| l.starts_with("f ")).count() > 10);
+    let json = mesh("json", &depth, &["--intrinsics", &camera]);
+    let beside = mesh("beside", "frame.png", &[]);
+    let csv = mesh("csv", &depth, &["--intrinsics", "frame_metadata.csv"]);
+    // The OBJ names its own MTL: compare everything else.
+    let body = |obj: &str| -> Vec<String> {
+        obj.lines()
+            .filter(|l| !l.starts_with("mtllib"))
+            .map(str::to_owned)
+            .collect()
+    };
+    for (name, other) in [("json", &json), ("beside", &beside), ("csv", &csv)] {
+        assert!(
+            body(&numbers) == body(other),
+            "{name} differs from the numbers"
+        );
+    }
+    // Another depth scale is another cloud: depths halved, planes half as far.
+    let halved = mesh(
+        "halved",
+        &depth,
+        &[
+            "--intrinsics",
+            "525,525,319.5,239.5",
+            "--depth-scale",
+            "2000",
+        ],
+    );
+    assert!(body(&halved) != body(&numbers));
+    // Bad camera options are named.
+    for (args, expected) in [
+        (
+            vec!["--intrinsics", "525,525,319.5"],
+            "--intrinsics 525,525,319.5",
+        ),
+        (vec!["--intrinsics", &camera, "--depth-scale", "0"], "depth"),
+    ] {
+        let mut all = vec!["mesh", &depth, "-o", "bad.obj"];
+        all.extend(args);
+        let out = polylidar(&dir, &all);
+        assert_eq!(out.status.code(), Some(1));
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(stderr.contains(expected), "{stderr}");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
