@@ -1,13 +1,11 @@
-//! k nearest neighbours of every point of a cloud, on a uniform grid of cubic cells
-//! searched ring by ring (for points on surfaces this is several times faster than a
-//! general k-d tree: most queries read the 27 cells around the point).
+//! k nearest neighbours of every point of a cloud, on a uniform grid of cubic cells: the
+//! queries of one cell share the points of the 3 × 3 × 3 block of cells around it,
+//! gathered once (for points on surfaces this is several times faster than a general k-d
+//! tree); a query whose k-th neighbour may lie beyond the block goes on ring by ring.
 
 use rayon::prelude::*;
 
 use crate::NormalsError;
-
-/// Points per parallel work item.
-const CHUNK: usize = 4096;
 
 /// Bits per axis of a cell key.
 const BITS: u32 = 21;
@@ -44,28 +42,44 @@ impl Neighbours {
             return Err(NormalsError::TooFewNeighbours { k });
         }
         let grid = Grid::new(points, k);
-        // Queries in cell order, so that neighbouring queries read the same cells (a
-        // shuffled cloud read in its own order misses the cache at every query).
-        let rows: Vec<(u32, Vec<u32>)> = grid
-            .order
-            .par_chunks(CHUNK)
-            .zip(grid.sorted.par_chunks(CHUNK))
-            .flat_map_iter(|(queries, at)| {
-                let mut best: Vec<(f64, u32)> = Vec::with_capacity(k + 1);
-                queries
-                    .iter()
-                    .zip(at)
-                    .map(|(&q, &p)| {
-                        grid.nearest(p, k, &mut best);
-                        (q, best.iter().map(|&(_, i)| i).collect())
-                    })
-                    .collect::<Vec<_>>()
-            })
-            .collect();
-        let mut indices = vec![0u32; points.len() * k];
-        for (q, row) in rows {
-            indices[q as usize * k..(q as usize + 1) * k].copy_from_slice(&row);
+        // Cell by cell: the queries of one cell share the candidates of the 3 × 3 × 3
+        // block around it, gathered once; rows come out in the grid's order.
+        let cells = grid.keys.len();
+        let per_chunk = (cells / 64).clamp(1, CELLS_PER_CHUNK);
+        let mut sorted_rows = vec![0u32; points.len() * k];
+        let mut rows_left: &mut [u32] = &mut sorted_rows;
+        let mut chunks: Vec<(usize, usize, &mut [u32])> = Vec::new();
+        let mut cell = 0;
+        while cell < cells {
+            let end = (cell + per_chunk).min(cells);
+            let count = (grid.starts[end] - grid.starts[cell]) as usize;
+            let (mine, rest) = rows_left.split_at_mut(count * k);
+            chunks.push((cell, end, mine));
+            rows_left = rest;
+            cell = end;
         }
+        chunks.into_par_iter().for_each(|(first, end, out)| {
+            let mut scratch = Scratch::default();
+            let mut at = 0;
+            for c in first..end {
+                grid.block(c, &mut scratch);
+                for s in grid.starts[c] as usize..grid.starts[c + 1] as usize {
+                    grid.nearest_in_block(s, c, k, &mut scratch);
+                    for (slot, &(_, i)) in out[at..at + k].iter_mut().zip(&scratch.best) {
+                        *slot = i;
+                    }
+                    at += k;
+                }
+            }
+        });
+        // Back to the input order.
+        let mut indices = vec![0u32; points.len() * k];
+        indices
+            .par_chunks_mut(k)
+            .zip(grid.rank.par_iter())
+            .for_each(|(row, &s)| {
+                row.copy_from_slice(&sorted_rows[s as usize * k..(s as usize + 1) * k]);
+            });
         Ok(Self { k, indices })
     }
 
@@ -97,6 +111,18 @@ impl Neighbours {
     pub fn as_flat(&self) -> &[u32] {
         &self.indices
     }
+}
+
+/// Cells per parallel work item at most.
+const CELLS_PER_CHUNK: usize = 512;
+
+/// Per-thread buffers of the search.
+#[derive(Default)]
+struct Scratch {
+    /// The points of the current block: coordinates and input index.
+    candidates: Vec<([f64; 3], u32)>,
+    /// Squared distance and index, the `k` nearest first after a query.
+    best: Vec<(f64, u32)>,
 }
 
 /// Checks that the cloud is non-empty, finite and addressable with `u32` indices.
@@ -131,6 +157,8 @@ struct Grid {
     order: Vec<u32>,
     /// The points in `order`.
     sorted: Vec<[f64; 3]>,
+    /// Per input point, its position in `order`.
+    rank: Vec<u32>,
     /// Cells along each axis.
     cells: [i64; 3],
 }
@@ -190,7 +218,12 @@ impl Grid {
             }
         }
         starts.push(keyed.len() as u32);
+        let mut rank = vec![0u32; points.len()];
+        for (at, &(_, i)) in keyed.iter().enumerate() {
+            rank[i as usize] = at as u32;
+        }
         Self {
+            rank,
             min,
             size,
             keys,
@@ -201,14 +234,78 @@ impl Grid {
         }
     }
 
-    /// The `k` nearest points to `p` into `best` as `(squared distance, index)`,
-    /// nearest first.
-    fn nearest(&self, p: [f64; 3], k: usize, best: &mut Vec<(f64, u32)>) {
+    /// The candidates of the 3 × 3 × 3 block of cells around occupied cell `c`.
+    fn block(&self, c: usize, scratch: &mut Scratch) {
+        scratch.candidates.clear();
+        let [x, y, z] = unkey(self.keys[c]);
+        for x in (x - 1).max(0)..=(x + 1).min(self.cells[0] - 1) {
+            for y in (y - 1).max(0)..=(y + 1).min(self.cells[1] - 1) {
+                // The column's cells z − 1 ..= z + 1 are consecutive keys.
+                let low = key([x, y, (z - 1).max(0)]);
+                let high = key([x, y, (z + 1).min(self.cells[2] - 1)]);
+                let mut at = self.keys.partition_point(|&key| key < low);
+                while at < self.keys.len() && self.keys[at] <= high {
+                    let cell = self.starts[at] as usize..self.starts[at + 1] as usize;
+                    scratch.candidates.extend(
+                        self.sorted[cell.clone()]
+                            .iter()
+                            .copied()
+                            .zip(self.order[cell].iter().copied()),
+                    );
+                    at += 1;
+                }
+            }
+        }
+    }
+
+    /// The `k` nearest points to sorted point `s` (in occupied cell `c`, whose block's
+    /// candidates `scratch` holds) into `scratch.best`, nearest first (ties: lower index).
+    fn nearest_in_block(&self, s: usize, c: usize, k: usize, scratch: &mut Scratch) {
+        let p = self.sorted[s];
+        let best = &mut scratch.best;
         best.clear();
-        let c = cell_of(&p, self.min, self.size, self.cells);
+        best.extend(scratch.candidates.iter().map(|&(q, i)| {
+            let d = (p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2);
+            (d, i)
+        }));
+        let order = |a: &(f64, u32), b: &(f64, u32)| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1));
+        if best.len() >= k {
+            if best.len() > k {
+                best.select_nth_unstable_by(k - 1, order);
+                best.truncate(k);
+            }
+            best.sort_unstable_by(order);
+        } else {
+            best.sort_unstable_by(order);
+        }
+        // The block holds rings 0 and 1; the k best of them stay the candidates there.
+        self.nearest(p, unkey(self.keys[c]), k, best, 2);
+    }
+
+    /// How far `p` lies inside its cell `c` (distance to the nearest face).
+    fn margin(&self, p: [f64; 3], c: [i64; 3]) -> f64 {
+        (0..3)
+            .map(|a| {
+                let low = self.min[a] + c[a] as f64 * self.size;
+                (p[a] - low).min(low + self.size - p[a])
+            })
+            .fold(f64::INFINITY, f64::min)
+            .max(0.0)
+    }
+
+    /// The `k` nearest points to `p` (in cell `c`) into `best` as `(squared distance,
+    /// index)`, nearest first, searching ring after ring of cells from `ring` on; `best`
+    /// holds the `k` nearest (or all) of the rings before, sorted.
+    fn nearest(&self, p: [f64; 3], c: [i64; 3], k: usize, best: &mut Vec<(f64, u32)>, ring: i64) {
+        let margin = self.margin(p, c);
         let reach = self.cells.iter().copied().max().unwrap_or(1);
-        let mut ring = 0i64;
+        let mut ring = ring;
         loop {
+            // Every point within `(ring − 1) · size` plus the margin of `p` has been seen.
+            let covered = (ring - 1) as f64 * self.size + margin;
+            if (best.len() == k && best[k - 1].0 <= covered * covered) || ring > reach {
+                return;
+            }
             self.visit_shell(c, ring, |i, q| {
                 let d = (p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2);
                 if best.len() == k && (d, i) >= best[k - 1] {
@@ -218,11 +315,6 @@ impl Grid {
                 best.insert(at, (d, i));
                 best.truncate(k);
             });
-            // Every point within `ring · size` of `p` has been seen.
-            let covered = ring as f64 * self.size;
-            if (best.len() == k && best[k - 1].0 <= covered * covered) || ring > reach {
-                return;
-            }
             ring += 1;
         }
     }
@@ -255,4 +347,13 @@ fn cell_of(p: &[f64; 3], min: [f64; 3], size: f64, cells: [i64; 3]) -> [i64; 3] 
 
 fn key(c: [i64; 3]) -> u64 {
     ((c[0] as u64) << (2 * BITS)) | ((c[1] as u64) << BITS) | c[2] as u64
+}
+
+fn unkey(key: u64) -> [i64; 3] {
+    let mask = (1u64 << BITS) - 1;
+    [
+        (key >> (2 * BITS)) as i64,
+        ((key >> BITS) & mask) as i64,
+        (key & mask) as i64,
+    ]
 }

@@ -51,6 +51,48 @@ fn neighbours_match_brute_force_distances() {
     }
 }
 
+/// Brute force: the `k` nearest of `points[i]`, by (squared distance, index).
+fn brute_force(points: &[[f64; 3]], i: usize, k: usize) -> Vec<u32> {
+    let mut all: Vec<(f64, u32)> = points
+        .iter()
+        .enumerate()
+        .map(|(j, q)| (d2(points[i], *q), j as u32))
+        .collect();
+    all.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    all[..k].iter().map(|&(_, j)| j).collect()
+}
+
+#[test]
+fn neighbours_on_surfaces_with_duplicates_and_outliers_are_the_brute_force_ones() {
+    // Two faces of a box on a grid (many equal distances), some points repeated, a
+    // sparse scatter of far points (their neighbours lie beyond the 27 cells).
+    let mut rng = ChaCha8Rng::seed_from_u64(7);
+    let mut points = Vec::new();
+    for i in 0..20 {
+        for j in 0..20 {
+            let (u, v) = (0.1 * f64::from(i), 0.1 * f64::from(j));
+            points.push([u, v, 0.0]);
+            points.push([u, 0.0, v + rng.random_range(0.0..0.01)]);
+        }
+    }
+    for i in 0..50 {
+        points.push(points[i * 7]);
+    }
+    for _ in 0..20 {
+        points.push([
+            rng.random_range(-20.0..20.0),
+            rng.random_range(-20.0..20.0),
+            rng.random_range(5.0..20.0),
+        ]);
+    }
+    for k in [1, 13] {
+        let knn = Neighbours::new(&points, k).unwrap();
+        for i in 0..points.len() {
+            assert_eq!(knn.of(i), brute_force(&points, i, k), "point {i}, k {k}");
+        }
+    }
+}
+
 #[test]
 fn pca_normals_of_a_noisy_tilted_plane_match_it() {
     // The plane through c with normal n, sampled on a jittered grid with 1 mm noise.
