@@ -143,62 +143,71 @@ impl TypePlanes {
             .for_each(|(r, (nx, ny, nz, cx, cy, cz, m))| {
                 let top = r * cols;
                 let bottom = top + cols;
-                let corner = |plane, start| span(plane, start, cc);
                 // p1 = (r, c), p2 = (r, c + 1), p3 = (r + 1, c + 1), p4 = (r + 1, c);
                 // type 0 is [p3, p2, p1], type 1 is [p1, p4, p3].
-                let (a, b, c) = if k == 0 {
-                    (bottom + 1, top + 1, top)
+                let corners = if k == 0 {
+                    [bottom + 1, top + 1, top]
                 } else {
-                    (top, bottom, bottom + 1)
+                    [top, bottom, bottom + 1]
                 };
-                let (ax, ay, az, am) = (
-                    corner(&planes.x, a),
-                    corner(&planes.y, a),
-                    corner(&planes.z, a),
-                    corner(&planes.m, a),
+                let corner = |start| {
+                    [&planes.x, &planes.y, &planes.z, &planes.m].map(|p| span(p, start, cc))
+                };
+                type_row(
+                    corners.map(corner),
+                    [&mut *nx, &mut *ny, &mut *nz],
+                    [&mut *cx, &mut *cy, &mut *cz],
+                    m,
                 );
-                let (bx, by, bz, bm) = (
-                    corner(&planes.x, b),
-                    corner(&planes.y, b),
-                    corner(&planes.z, b),
-                    corner(&planes.m, b),
-                );
-                let (qx, qy, qz, qm) = (
-                    corner(&planes.x, c),
-                    corner(&planes.y, c),
-                    corner(&planes.z, c),
-                    corner(&planes.m, c),
-                );
-                for i in 0..cc {
-                    let valid = am[i] * bm[i] * qm[i] > 0.0;
-                    let (ux, uy, uz) = (bx[i] - ax[i], by[i] - ay[i], bz[i] - az[i]);
-                    let (vx, vy, vz) = (qx[i] - ax[i], qy[i] - ay[i], qz[i] - az[i]);
-                    let px = uy * vz - uz * vy;
-                    let py = uz * vx - ux * vz;
-                    let pz = ux * vy - uy * vx;
-                    let len = (px * px + py * py + pz * pz).sqrt();
-                    let unit = valid && len > 0.0;
-                    nx[i] = if unit { px / len } else { 0.0 };
-                    ny[i] = if unit { py / len } else { 0.0 };
-                    nz[i] = if unit { pz / len } else { 0.0 };
-                    cx[i] = if valid {
-                        (ax[i] + bx[i] + qx[i]) / 3.0
-                    } else {
-                        0.0
-                    };
-                    cy[i] = if valid {
-                        (ay[i] + by[i] + qy[i]) / 3.0
-                    } else {
-                        0.0
-                    };
-                    cz[i] = if valid {
-                        (az[i] + bz[i] + qz[i]) / 3.0
-                    } else {
-                        0.0
-                    };
-                    m[i] = if valid { 1.0 } else { 0.0 };
-                }
             });
+    }
+}
+
+/// One cell row of one triangle type: from the x, y, z, mask spans of its corners
+/// `[a, b, c]`, the unit normals `(b − a) × (c − a)` (zero when missing or degenerate),
+/// the centroids (zero when missing) and the mask. Vectorised; the arithmetic is the
+/// same on every target (no fused multiply-add), so results do not depend on the CPU.
+#[multiversion::multiversion(targets("x86_64+avx2"))]
+fn type_row(
+    [a, b, q]: [[&[f32]; 4]; 3],
+    [nx, ny, nz]: [&mut [f32]; 3],
+    [cx, cy, cz]: [&mut [f32]; 3],
+    m: &mut [f32],
+) {
+    let len = m.len();
+    let [ax, ay, az, am] = a.map(|p| &p[..len]);
+    let [bx, by, bz, bm] = b.map(|p| &p[..len]);
+    let [qx, qy, qz, qm] = q.map(|p| &p[..len]);
+    let (nx, ny, nz) = (&mut nx[..len], &mut ny[..len], &mut nz[..len]);
+    let (cx, cy, cz) = (&mut cx[..len], &mut cy[..len], &mut cz[..len]);
+    for i in 0..len {
+        let valid = am[i] * bm[i] * qm[i] > 0.0;
+        let (ux, uy, uz) = (bx[i] - ax[i], by[i] - ay[i], bz[i] - az[i]);
+        let (vx, vy, vz) = (qx[i] - ax[i], qy[i] - ay[i], qz[i] - az[i]);
+        let px = uy * vz - uz * vy;
+        let py = uz * vx - ux * vz;
+        let pz = ux * vy - uy * vx;
+        let len = (px * px + py * py + pz * pz).sqrt();
+        let unit = valid && len > 0.0;
+        nx[i] = if unit { px / len } else { 0.0 };
+        ny[i] = if unit { py / len } else { 0.0 };
+        nz[i] = if unit { pz / len } else { 0.0 };
+        cx[i] = if valid {
+            (ax[i] + bx[i] + qx[i]) / 3.0
+        } else {
+            0.0
+        };
+        cy[i] = if valid {
+            (ay[i] + by[i] + qy[i]) / 3.0
+        } else {
+            0.0
+        };
+        cz[i] = if valid {
+            (az[i] + bz[i] + qz[i]) / 3.0
+        } else {
+            0.0
+        };
+        m[i] = if valid { 1.0 } else { 0.0 };
     }
 }
 
@@ -395,6 +404,10 @@ fn pair_weights(
 
 /// Writes cell row `r` of the next pass (both triangle types) into `out`; the ring
 /// holds the pair weights of rows `r − half ..= r`.
+///
+/// A missing triangle's normal is zero (as [`TypePlanes::compute`] makes it and
+/// [`normalize`] keeps it), so its terms add exact zeros without a mask; the terms are
+/// added in the order of [`direct_row`].
 #[inline(always)]
 fn output_row(
     filter: &Filter,
@@ -416,7 +429,7 @@ fn output_row(
         az.fill(0.0);
         for nb in &filter.neighbours {
             let q = own.wrapping_add_signed(nb.dr * cols as isize + nb.dc);
-            for kn in 0..TRIANGLES_PER_CELL {
+            for (kn, qn) in normals.iter().enumerate() {
                 let w = if nb.forward {
                     filter.ring_row(r, nb.pair, ko, kn) + half
                 } else {
@@ -424,13 +437,11 @@ fn output_row(
                     (filter.ring_row(row, nb.pair, kn, ko) + half).wrapping_add_signed(nb.dc)
                 };
                 let w = &ring[w..w + len];
-                let [qnx, qny, qnz] = normals[kn].each_ref().map(|n| &n[q..q + len]);
-                let qm = &types[kn].mask[q..q + len];
+                let [qnx, qny, qnz] = qn.each_ref().map(|n| &n[q..q + len]);
                 for i in 0..len {
-                    let w = qm[i] * w[i];
-                    ax[i] += w * qnx[i];
-                    ay[i] += w * qny[i];
-                    az[i] += w * qnz[i];
+                    ax[i] += w[i] * qnx[i];
+                    ay[i] += w[i] * qny[i];
+                    az[i] += w[i] * qnz[i];
                 }
             }
         }
@@ -551,11 +562,20 @@ mod tests {
                 .map(|_| scale * (rng.random::<f32>() - 0.5))
                 .collect()
         };
-        let normals = [0, 1].map(|_| [plane(1.0), plane(1.0), plane(1.0)]);
         let types = [0, 1].map(|k| TypePlanes {
             normal: [vec![0.0; n], vec![0.0; n], vec![0.0; n]],
             centroid: [plane(0.4), plane(0.4), plane(0.4)],
             mask: (0..n).map(|i| f32::from((i + k) % 7 != 0)).collect(),
+        });
+        // Missing triangles have zero normals, as `TypePlanes::compute` makes them.
+        let normals = [0, 1].map(|k| {
+            [(); 3].map(|()| {
+                let mut p = plane(1.0);
+                for (v, m) in p.iter_mut().zip(&types[k].mask) {
+                    *v *= m;
+                }
+                p
+            })
         });
         (normals, types)
     }

@@ -212,7 +212,7 @@ impl GpuSmoother {
                 pass.dispatch_workgroups(groups(cols), groups(rows), 1);
             }
         }
-        let result = if options.iterations % 2 == 0 {
+        let result = if options.iterations.is_multiple_of(2) {
             &buffers.point_a
         } else {
             &buffers.point_b
@@ -280,7 +280,7 @@ impl GpuSmoother {
                 pass.dispatch_workgroups(x, y, 1);
             }
         }
-        let result = if options.iterations % 2 == 0 {
+        let result = if options.iterations.is_multiple_of(2) {
             &buffers.normal_a
         } else {
             &buffers.normal_b
