@@ -98,11 +98,15 @@ fn main() {
     let (mut vertices, mut boundary, mut triangles, mut area, mut texels, mut sum) =
         (0, 0, 0, 0.0, 0u64, 0u64);
     let mut failed = 0;
+    let (mut largest, mut total) = (0.0f64, 0.0);
     for p in &last {
         let Ok(p) = p else {
             failed += 1;
             continue;
         };
+        let seconds = p.stats.decimate_s + p.stats.triangulate_s + p.stats.texture_s;
+        largest = largest.max(seconds);
+        total += seconds;
         vertices += p.vertices.len();
         boundary += p.stats.boundary_vertices;
         triangles += p.triangles.len();
@@ -125,6 +129,10 @@ fn main() {
     println!(
         "planes {} failed {failed} vertices {vertices} boundary {boundary} triangles {triangles} area {area:.9} texels {texels} checksum {sum:x}",
         last.len()
+    );
+    println!(
+        "largest plane {:.0} % of the planes' time (last run)",
+        100.0 * largest / total.max(f64::MIN_POSITIVE)
     );
     println!(
         "median {:.2} ms (min {:.2}, max {:.2}) over {runs} runs on {threads} threads",

@@ -6,11 +6,32 @@
 //! triangle is kept when it is inside the polygon and not inside the interior.
 
 use spade::handles::FixedVertexHandle;
-use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
+use spade::{
+    ConstrainedDelaunayTriangulation, DelaunayTriangulation, HasPosition, Point2, Triangulation,
+};
 
 use crate::MeshError;
 
-type Cdt = ConstrainedDelaunayTriangulation<Point2<f64>>;
+/// A triangulation vertex: its position and its index in [`CdtInput::points`]
+/// ([`ADDED`] for a point the triangulation added).
+#[derive(Debug, Clone, Copy)]
+struct Vertex {
+    position: Point2<f64>,
+    id: u32,
+}
+
+/// [`Vertex::id`] of a point added where constraints cross.
+const ADDED: u32 = u32::MAX;
+
+impl HasPosition for Vertex {
+    type Scalar = f64;
+
+    fn position(&self) -> Point2<f64> {
+        self.position
+    }
+}
+
+type Cdt = ConstrainedDelaunayTriangulation<Vertex>;
 
 /// What to triangulate: distinct points; ring edges (polygon shell and holes) and outline
 /// edges (between points at index `first_outline` and above) as constraints.
@@ -35,52 +56,54 @@ pub(crate) struct CdtOutput {
 /// [`MeshError::Triangulation`] when `spade` rejects a point (non-finite or out of range).
 pub(crate) fn triangulate(input: &CdtInput<'_>) -> Result<CdtOutput, MeshError> {
     let n = input.points.len();
-    // `order[rank]` is the input index of the vertex spade sees at `rank`.
+    // The points in the order spade's bulk loading sorts them into.
     let order = bulk_load_order(input.points);
-    let mut rank = vec![0u32; n];
-    for (r, &i) in order.iter().enumerate() {
-        rank[i as usize] = r as u32;
-    }
-    let vertices: Vec<Point2<f64>> = order
+    let vertices: Vec<Vertex> = order
         .iter()
         .map(|&i| {
             let p = input.points[i as usize];
-            Point2::new(p[0], p[1])
+            Vertex {
+                position: Point2::new(p[0], p[1]),
+                id: i,
+            }
         })
         .collect();
-    // Each edge from its farther vertex (the lower rank, inserted later), sorted by it.
-    let mut edges: Vec<[usize; 2]> = input
-        .ring_edges
-        .iter()
-        .chain(input.outline_edges)
-        .filter(|e| e[0] != e[1])
-        .map(|e| {
-            let [a, b] = e.map(|v| rank[v as usize] as usize);
-            [a.min(b), a.max(b)]
-        })
-        .collect();
-    edges.sort_unstable();
-    let mut conflicting = Vec::new();
-    let mut cdt = Cdt::try_bulk_load_cdt(vertices, edges, |e| conflicting.push(e))
+    // The Delaunay triangulation first, then the constraints: most ring and outline edges
+    // are Delaunay edges already and only get marked.
+    let delaunay = DelaunayTriangulation::<Vertex>::bulk_load(vertices)
         .map_err(|e| MeshError::Triangulation(e.to_string()))?;
-    if cdt.num_vertices() != n {
+    if delaunay.num_vertices() != n {
         return Err(MeshError::Triangulation(format!(
             "{} of {} points are distinct",
-            cdt.num_vertices(),
+            delaunay.num_vertices(),
             n
         )));
+    }
+    let mut handle = vec![FixedVertexHandle::from_index(0); n];
+    for v in delaunay.vertices() {
+        handle[v.data().id as usize] = v.fix();
+    }
+    let mut cdt = Cdt::from(delaunay);
+    let mut conflicting = Vec::new();
+    for e in input.ring_edges.iter().chain(input.outline_edges) {
+        let [a, b] = e.map(|v| handle[v as usize]);
+        if a != b && !cdt.exists_constraint(a, b) && cdt.try_add_constraint(a, b).is_empty() {
+            conflicting.push([a, b]);
+        }
     }
     // Crossing constraints (a ring that crosses itself after projection onto the fitted
     // plane, where it passed close to itself): added afterwards, split where they cross.
     for [a, b] in conflicting {
-        cdt.add_constraint_and_split(
-            FixedVertexHandle::from_index(a),
-            FixedVertexHandle::from_index(b),
-            |p| p,
-        );
+        cdt.add_constraint_and_split(a, b, |position| Vertex {
+            position,
+            id: ADDED,
+        });
     }
-    // Spade's vertex index back to the input's (added points keep theirs).
-    let original = |v: usize| order.get(v).map_or(v as u32, |&i| i);
+    // Input indices; added points are numbered from `n` in the order spade added them.
+    let original = |v: FixedVertexHandle| match cdt.vertex(v).data().id {
+        ADDED => v.index() as u32,
+        id => id,
+    };
     let kept = keep_between(&cdt, input, original);
     Ok(CdtOutput {
         triangles: kept,
@@ -133,7 +156,11 @@ fn bulk_load_order(points: &[[f64; 2]]) -> Vec<u32> {
 }
 
 /// The inner faces inside the rings and outside the outline (flood fill with parities).
-fn keep_between(cdt: &Cdt, input: &CdtInput<'_>, original: impl Fn(usize) -> u32) -> Vec<[u32; 3]> {
+fn keep_between(
+    cdt: &Cdt,
+    input: &CdtInput<'_>,
+    original: impl Fn(FixedVertexHandle) -> u32,
+) -> Vec<[u32; 3]> {
     let first = input.first_outline;
     let n = input.points.len() as u32;
     let is_outline = |a: u32, b: u32| a >= first && b >= first && a < n && b < n;
@@ -164,7 +191,7 @@ fn keep_between(cdt: &Cdt, input: &CdtInput<'_>, original: impl Fn(usize) -> u32
             }
             let mut s = here & 3;
             if e.as_undirected().data().is_constraint_edge() {
-                let [a, b] = e.vertices().map(|v| original(v.fix().index()));
+                let [a, b] = e.vertices().map(|v| original(v.fix()));
                 s ^= if is_outline(a, b) { 2 } else { 1 };
             }
             state[n] = s | 4;
@@ -173,7 +200,7 @@ fn keep_between(cdt: &Cdt, input: &CdtInput<'_>, original: impl Fn(usize) -> u32
     }
     cdt.inner_faces()
         .filter(|f| state[f.fix().index()] & 3 == 1)
-        .map(|f| f.vertices().map(|v| original(v.fix().index())))
+        .map(|f| f.vertices().map(|v| original(v.fix())))
         .collect()
 }
 
