@@ -132,19 +132,21 @@ fn bulk_load_order(points: &[[f64; 2]]) -> Vec<u32> {
     let mut order: Vec<u32> = (0..points.len() as u32).collect();
     let mut centre = mean(&mut (0..points.len()));
     for _ in 0..3 {
-        let mut keyed: Vec<(f64, f64, f64, u32)> = order
+        // Integer keys in the same order: distance descending, then x and y ascending.
+        let mut keyed: Vec<(u64, u64, u64, u32)> = order
             .iter()
             .map(|&i| {
                 let p = points[i as usize];
                 let (dx, dy) = (p[0] - centre[0], p[1] - centre[1]);
-                (dx * dx + dy * dy, p[0], p[1], i)
+                (
+                    !(dx * dx + dy * dy).to_bits(),
+                    ordered(p[0]),
+                    ordered(p[1]),
+                    i,
+                )
             })
             .collect();
-        keyed.sort_unstable_by(|a, b| {
-            b.0.total_cmp(&a.0)
-                .then(a.1.total_cmp(&b.1))
-                .then(a.2.total_cmp(&b.2))
-        });
+        keyed.sort_unstable();
         order = keyed.into_iter().map(|k| k.3).collect();
         let again = mean(&mut order.iter().map(|&i| i as usize));
         if again == centre {
@@ -153,6 +155,17 @@ fn bulk_load_order(points: &[[f64; 2]]) -> Vec<u32> {
         centre = again;
     }
     order
+}
+
+/// A key whose unsigned order is the total order of `v`.
+#[inline]
+fn ordered(v: f64) -> u64 {
+    let bits = v.to_bits();
+    if bits >> 63 == 1 {
+        !bits
+    } else {
+        bits | 1 << 63
+    }
 }
 
 /// The inner faces inside the rings and outside the outline (flood fill with parities).

@@ -76,45 +76,48 @@ impl Quadtree {
             boundary: Vec::new(),
             vertices: Vec::new(),
         };
-        let all: Vec<u32> = (0..polygon.edges.len() as u32).collect();
-        let mut stack: Vec<(Node, Vec<u32>)> = vec![(
-            Node {
-                i: 0,
-                j: 0,
-                size: n,
-            },
-            all,
-        )];
-        while let Some((node, edges)) = stack.pop() {
+        // The edges near each node, as ranges of one pool: a node's children share its
+        // range and append their own, so nothing is copied or allocated per node.
+        let mut pool: Vec<u32> = (0..polygon.edges.len() as u32).collect();
+        let root = Node {
+            i: 0,
+            j: 0,
+            size: n,
+        };
+        let mut stack: Vec<(Node, u32, u32)> = vec![(root, 0, pool.len() as u32)];
+        while let Some((node, start, end)) = stack.pop() {
             let lo = tree.corner(node.i, node.j);
             let hi = tree.corner(node.i + node.size, node.j + node.size);
             let (lo, hi) = (
                 [lo[0] - margin, lo[1] - margin],
                 [hi[0] + margin, hi[1] + margin],
             );
-            let near: Vec<u32> = edges
-                .into_iter()
-                .filter(|&e| {
-                    let [a, b] = polygon.edges[e as usize];
-                    segment_meets_box(a, b, lo, hi)
-                })
-                .collect();
-            if near.is_empty() {
+            let first = pool.len();
+            for k in start as usize..end as usize {
+                let e = pool[k];
+                let [a, b] = polygon.edges[e as usize];
+                if segment_meets_box(a, b, lo, hi) {
+                    pool.push(e);
+                }
+            }
+            if pool.len() == first {
                 let h = 0.5 * f64::from(node.size);
                 if polygon.contains(tree.point(f64::from(node.i) + h, f64::from(node.j) + h)) {
                     tree.interior.push(node);
                 }
             } else if node.size == 1 {
                 tree.boundary.push(key(node.i, node.j));
+                pool.truncate(first);
             } else {
                 let s = node.size / 2;
+                let (start, end) = (first as u32, pool.len() as u32);
                 for (di, dj) in [(0, 0), (s, 0), (0, s), (s, s)] {
                     let child = Node {
                         i: node.i + di,
                         j: node.j + dj,
                         size: s,
                     };
-                    stack.push((child, near.clone()));
+                    stack.push((child, start, end));
                 }
             }
         }
