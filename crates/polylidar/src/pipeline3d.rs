@@ -90,7 +90,8 @@ impl Polylidar {
             if let (Some(l), Some(c)) = (&config.laplacian, &mut cloud) {
                 laplacian_iterations = timings.time("laplacian", || laplacian(&mut reuse, l, c))?;
             }
-            let options = OpcMeshOptions::new().with_compute_normals(true);
+            // The bilateral filter replaces every triangle normal: meshing skips them then.
+            let options = OpcMeshOptions::new().with_compute_normals(config.bilateral.is_none());
             let mut opc = timings.time("mesh", || match &cloud {
                 Some(c) => c.mesh(&options),
                 None => input.mesh(&options),
