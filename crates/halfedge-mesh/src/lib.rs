@@ -42,7 +42,7 @@ mod sweep;
 pub use build::{BuildReport, DegeneratePolicy, MeshOptions, NonManifoldPolicy};
 pub use delaunay::{DelaunayReport, MAX_COORDINATE};
 pub use error::MeshError;
-pub use mesh::{HalfEdgeMesh, NO_TWIN, cross_normal, next_halfedge, prev_halfedge};
+pub use mesh::{HalfEdgeMesh, MeshParts, NO_TWIN, cross_normal, next_halfedge, prev_halfedge};
 pub use sweep::alpha::{AlphaComplexOptions, AlphaComplexReport};
 
 #[doc = include_str!("../README.md")]

@@ -85,7 +85,7 @@ impl HalfEdgeMesh {
     }
 
     /// Splits the mesh into its arrays: vertices, triangles, twins, normals.
-    pub fn into_parts(self) -> (Vec<[f64; 3]>, Vec<[u32; 3]>, Vec<u32>, Vec<[f64; 3]>) {
+    pub fn into_parts(self) -> MeshParts {
         (
             self.vertices,
             self.triangles,
@@ -299,10 +299,14 @@ pub fn next_halfedge(h: u32) -> u32 {
     if h % 3 == 2 { h - 2 } else { h + 1 }
 }
 
+/// The arrays of a [`HalfEdgeMesh`] ([`HalfEdgeMesh::into_parts`]): vertices, triangles,
+/// twins, triangle normals.
+pub type MeshParts = (Vec<[f64; 3]>, Vec<[u32; 3]>, Vec<u32>, Vec<[f64; 3]>);
+
 /// The previous half-edge in the same triangle.
 #[inline]
 pub fn prev_halfedge(h: u32) -> u32 {
-    if h % 3 == 0 { h + 2 } else { h - 1 }
+    if h.is_multiple_of(3) { h + 2 } else { h - 1 }
 }
 
 /// The unnormalised normal `(b − a) × (c − a)` of a triangle; its length is twice the area.

@@ -1,6 +1,9 @@
 //! Tests of mesh construction: Delaunay against brute force, twin linking against the
 //! Delaunay twins, non-manifold policies, and precise errors for bad input.
 
+// Test helpers fail loudly by design.
+#![allow(clippy::unwrap_used)]
+
 use halfedge_mesh::{
     BuildReport, DegeneratePolicy, HalfEdgeMesh, MeshError, MeshOptions, NO_TWIN, NonManifoldPolicy,
 };
