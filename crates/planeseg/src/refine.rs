@@ -18,7 +18,9 @@
 //!    within `norm_thresh` of all three neighbours'. Regions of `min_triangles` or more
 //!    become segments, and absorb their free neighbours in turn.
 //! 3. **Merge**: segments that share an edge merge when one plane explains both: the
-//!    normals are within `norm_thresh`, and the root mean square distance of each one's
+//!    normals are within `norm_thresh` (within [`ABSORB_COS`] when one is a small piece
+//!    of the other, [`SMALL_PIECE_SHARE`]: its normal, measured on few noisy
+//!    triangles, says little), and the root mean square distance of each one's
 //!    triangles to their common plane stays within [`MERGE_RMS_GROWTH`] times the
 //!    noisier segment's own spread, or below [`ADJACENT_FLOOR`] of `z_thresh`; a ridge
 //!    between two planes makes the common plane fit much worse.
@@ -618,7 +620,13 @@ fn merge(
         let (Some(pa), Some(pb)) = (sa.plane(), sb.plane()) else {
             continue;
         };
-        if dot(pa.normal, pb.normal) < m.norm_thresh {
+        let small = sa.weight.min(sb.weight) < SMALL_PIECE_SHARE * sa.weight.max(sb.weight);
+        let cos = if small {
+            m.norm_thresh.min(ABSORB_COS)
+        } else {
+            m.norm_thresh
+        };
+        if dot(pa.normal, pb.normal) < cos {
             continue;
         }
         let Some(merged) = one_plane(&sa, &sb, floor) else {
@@ -785,12 +793,15 @@ fn coplanar(sums: &[PlaneSums], z_thresh: f64, norm_thresh: f64) -> Vec<u32> {
     plane
 }
 
-/// A disjoint piece with less than this share of the other piece's area is *small*
-/// ([`coplanar`]): its own normal and spread, measured on few noisy triangles, say little,
-/// so it joins a larger piece's plane when its normal is within `norm_thresh` (the
-/// tolerance region growing applies) instead of [`COPLANAR_COS`], and one plane explains
-/// both within [`SMALL_PIECE_FLOOR`] of `z_thresh` instead of [`COPLANAR_FLOOR`]: the strip
-/// of a wall seen between two pieces of furniture.
+/// A piece with less than this share of the other piece's area is *small*: its own
+/// normal and spread, measured on few noisy triangles, say little. A disjoint small piece
+/// ([`coplanar`]) joins a larger piece's plane when its normal is within `norm_thresh`
+/// (the tolerance region growing applies) instead of [`COPLANAR_COS`], and one plane
+/// explains both within [`SMALL_PIECE_FLOOR`] of `z_thresh` instead of
+/// [`COPLANAR_FLOOR`]: the strip of a wall seen between two pieces of furniture. A small
+/// piece sharing an edge with a larger segment merges into it (step 3) when its normal is
+/// within [`ABSORB_COS`] and the plane test passes: a patch of a far, noisy wall that
+/// smoothing tilted towards another dominant normal and that was grown for it.
 pub const SMALL_PIECE_SHARE: f64 = 0.1;
 
 /// The RMS floor of the plane test for a small disjoint piece ([`SMALL_PIECE_SHARE`]), as

@@ -288,3 +288,45 @@ fn a_far_plane_with_few_triangles_but_a_large_area_is_kept() {
     let paper = segment(&mesh, &[UP], &config.with_refine(false).with_min_area(5.0)).unwrap();
     assert!(paper.segments.is_empty());
 }
+
+#[test]
+fn a_small_tilted_patch_grown_for_another_normal_merges_into_its_plane() {
+    // A floor with a 4 × 10 patch tilted by 25° about its own centre line (heights ±0.93),
+    // as smoothing tilts a patch of a far, noisy wall towards another dominant normal.
+    // Growth gives the patch its own segment (its normal is the second dominant normal);
+    // its normal is beyond norm_thresh (18°) of the floor's but within ABSORB_COS (45°),
+    // and its points lie within ADJACENT_FLOOR · z_thresh = 1 of the floor's plane (RMS
+    // 0.54), so the patch is part of the floor. Lifted by 3 it is a plane of its own.
+    let angle = 25f64.to_radians();
+    let tilted = [-angle.sin(), 0.0, angle.cos()];
+    let patch = |x: f64, y: f64| (13.0..=17.0).contains(&x) && (10.0..=20.0).contains(&y);
+    let config = config(true).with_z_thresh(2.0).with_min_triangles(20);
+    for (lift, merged) in [(0.0, true), (3.0, false)] {
+        let mesh = height_field(30, move |x, y| {
+            if patch(x, y) {
+                lift + (x - 15.0) * angle.tan()
+            } else {
+                0.0
+            }
+        });
+        let refined = segment(&mesh, &[UP, tilted], &config).unwrap();
+        let patch_triangles = triangles_where(&mesh, |p| patch(p[0], p[1]));
+        assert!(patch_triangles.len() >= 20);
+        let floor = refined
+            .segments
+            .iter()
+            .max_by_key(|s| s.triangles.len())
+            .unwrap();
+        let in_floor = patch_triangles.iter().all(|t| floor.triangles.contains(t));
+        assert_eq!(in_floor, merged, "lift {lift}");
+        if !merged {
+            assert!(
+                refined
+                    .segments
+                    .iter()
+                    .any(|s| patch_triangles.iter().all(|t| s.triangles.contains(t))),
+                "the lifted patch is a segment"
+            );
+        }
+    }
+}
