@@ -264,19 +264,9 @@ impl Grid {
         let p = self.sorted[s];
         let best = &mut scratch.best;
         best.clear();
-        best.extend(scratch.candidates.iter().map(|&(q, i)| {
+        for &(q, i) in &scratch.candidates {
             let d = (p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2);
-            (d, i)
-        }));
-        let order = |a: &(f64, u32), b: &(f64, u32)| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1));
-        if best.len() >= k {
-            if best.len() > k {
-                best.select_nth_unstable_by(k - 1, order);
-                best.truncate(k);
-            }
-            best.sort_unstable_by(order);
-        } else {
-            best.sort_unstable_by(order);
+            keep(best, k, d, i);
         }
         // The block holds rings 0 and 1; the k best of them stay the candidates there.
         self.nearest(p, unkey(self.keys[c]), k, best, 2);
@@ -308,12 +298,7 @@ impl Grid {
             }
             self.visit_shell(c, ring, |i, q| {
                 let d = (p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2);
-                if best.len() == k && (d, i) >= best[k - 1] {
-                    return;
-                }
-                let at = best.partition_point(|&e| e < (d, i));
-                best.insert(at, (d, i));
-                best.truncate(k);
+                keep(best, k, d, i);
             });
             ring += 1;
         }
@@ -339,6 +324,24 @@ impl Grid {
             }
         }
     }
+}
+
+/// Puts candidate `(d, i)` into `best` (sorted by squared distance, then index; at most
+/// `k`) if it is among the `k` nearest so far.
+#[inline]
+fn keep(best: &mut Vec<(f64, u32)>, k: usize, d: f64, i: u32) {
+    let before = |e: &(f64, u32)| e.0 < d || (e.0 == d && e.1 < i);
+    if best.len() == k {
+        if best.last().is_none_or(before) {
+            return;
+        }
+        best.pop();
+    }
+    let mut at = best.len();
+    while at > 0 && !before(&best[at - 1]) {
+        at -= 1;
+    }
+    best.insert(at, (d, i));
 }
 
 fn cell_of(p: &[f64; 3], min: [f64; 3], size: f64, cells: [i64; 3]) -> [i64; 3] {

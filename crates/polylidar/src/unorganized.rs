@@ -15,10 +15,13 @@
 //!    normals point either way is one direction), then again on the flat points that no
 //!    direction explains yet (tilted faces too small to peak beside the floor), up to
 //!    [`UnorganizedSection::rounds`] rounds;
-//! 4. per direction `d`: the points whose normal is within `norm_thresh` of `±d`, split
+//! 4. each point to one direction: the nearest to its normal within `norm_thresh`, then
+//!    the one most of its `k` neighbours took when its normal accepts it or most of them
+//!    agree (a mode filter against noisy normals); per direction `d` its points, split
 //!    into pieces connected through their nearest neighbours (a table top and the floor
 //!    below it are two pieces), each piece triangulated in 2D on the plane orthogonal to
-//!    `d` (2.5D Delaunay along `d`);
+//!    `d` (2.5D Delaunay along `d`), the pieces in parallel; every point is triangulated
+//!    once (FastGA sees an even sample of at most [`GA_SAMPLE`] points);
 //! 5. the pieces as one mesh, segmented by the directions as the organized path does
 //!    (`lmax`, `norm_thresh`, `z_thresh`, `min_triangles`, optional refinement), each
 //!    segment's polygon extracted in its plane, optional post-processing;
@@ -39,12 +42,15 @@ use serde::{Deserialize, Serialize};
 
 use crate::{Config, Counts, Extraction, Polylidar, PolylidarError, Timings};
 
-/// Directions at most (bits of a point's membership mask).
+/// Directions at most.
 pub const MAX_DIRECTIONS: usize = 64;
 
 /// A point is "flat" for the later rounds of direction finding when at least this share
 /// of its neighbours' normals lie within `norm_thresh` of its own.
 pub const FLAT_SHARE: f64 = 0.8;
+
+/// Normals FastGA integrates per round at most (an even sample of the points left).
+pub const GA_SAMPLE: usize = 100_000;
 
 /// A direction is refined to the mean of the normals within this cosine of it (or
 /// `norm_thresh`, if tighter).
@@ -292,8 +298,11 @@ impl Polylidar {
                     break;
                 }
             }
+            // A histogram's peaks: an even sample of at most `GA_SAMPLE` points does.
+            let step = left.len().div_ceil(GA_SAMPLE).max(1);
             let both: Vec<[f64; 3]> = left
                 .iter()
+                .step_by(step)
                 .flat_map(|&i| {
                     let n = normals[i];
                     [n, n.map(|c| -c)]
@@ -541,23 +550,10 @@ impl Pieces<'_> {
         points: &[[f64; 3]],
         work: &[u32],
     ) -> Result<(HalfEdgeMesh, usize), PolylidarError> {
-        let masks: Vec<u64> = self
-            .normals
-            .par_iter()
-            .map(|n| {
-                self.directions
-                    .iter()
-                    .enumerate()
-                    .filter(|(_, d)| dot(*n, **d).abs() >= self.norm_thresh)
-                    .fold(0u64, |m, (j, _)| m | (1 << j))
-            })
-            .collect();
-        let mut pieces: Vec<Piece> = (0..self.directions.len())
-            .into_par_iter()
-            .flat_map_iter(|j| self.split(j, &masks))
-            .collect();
-        // Largest first, for the parallel triangulation; the order of the mesh is fixed
-        // by (direction, first point) below.
+        let labels = self.labels();
+        let mut pieces = self.split(&labels);
+        // The order of the mesh: by (direction, first point); the triangulations run
+        // largest first.
         pieces.sort_by_key(|(j, members)| (*j, members[0]));
         let mut order: Vec<usize> = (0..pieces.len()).collect();
         order.sort_by_key(|&p| std::cmp::Reverse(pieces[p].1.len()));
@@ -628,49 +624,135 @@ impl Pieces<'_> {
         }
     }
 
-    /// The pieces of direction `j`: its member points connected through neighbours that
-    /// are members too and lie within `z_cut` of each other along it.
-    fn split(&self, j: usize, masks: &[u64]) -> Vec<Piece> {
-        let bit = 1u64 << j;
-        let d = self.directions[j];
-        let mut parent: Vec<u32> = (0..masks.len() as u32).collect();
-        let find = |parent: &mut Vec<u32>, mut x: u32| {
-            while parent[x as usize] != x {
-                let up = parent[parent[x as usize] as usize];
-                parent[x as usize] = up;
-                x = up;
-            }
-            x
-        };
-        for (i, _) in masks.iter().enumerate().filter(|(_, m)| *m & bit != 0) {
-            let p = self.points[i];
-            for &n in self.knn.of(i) {
-                if masks[n as usize] & bit == 0 {
-                    continue;
+    /// Per point, the direction it goes to ([`NO_DIRECTION`] for none): the one its
+    /// normal is nearest to, within `norm_thresh`; then the one most of its neighbours
+    /// went to, when the point's normal accepts it or most of them agree (a mode filter:
+    /// a noisy normal on a wall takes the wall's direction, an edge point the side most of
+    /// its neighbours lie on).
+    fn labels(&self) -> Vec<u32> {
+        let nearest: Vec<u32> = self
+            .normals
+            .par_iter()
+            .map(|n| self.nearest_direction(*n))
+            .collect();
+        (0..nearest.len())
+            .into_par_iter()
+            .map(|i| {
+                let around = self.knn.of(i);
+                let mut votes: [(u32, u32); MAX_VOTES] = [(NO_DIRECTION, 0); MAX_VOTES];
+                let mut kinds = 0;
+                for &n in around {
+                    let l = nearest[n as usize];
+                    if l == NO_DIRECTION {
+                        continue;
+                    }
+                    match votes[..kinds].iter_mut().find(|v| v.0 == l) {
+                        Some(v) => v.1 += 1,
+                        None if kinds < MAX_VOTES => {
+                            votes[kinds] = (l, 1);
+                            kinds += 1;
+                        }
+                        None => {}
+                    }
                 }
-                let q = self.points[n as usize];
-                if dot(d, [p[0] - q[0], p[1] - q[1], p[2] - q[2]]).abs() > self.z_cut {
-                    continue;
+                let n = self.normals[i];
+                let fit = |l: u32| dot(n, self.directions[l as usize]).abs();
+                let Some(&(top, count)) = votes[..kinds].iter().max_by(|a, b| {
+                    a.1.cmp(&b.1)
+                        .then(fit(a.0).total_cmp(&fit(b.0)))
+                        .then(b.0.cmp(&a.0))
+                }) else {
+                    return NO_DIRECTION;
+                };
+                if 2 * count as usize > around.len() || fit(top) >= self.norm_thresh {
+                    top
+                } else {
+                    nearest[i]
                 }
-                let (a, b) = (find(&mut parent, i as u32), find(&mut parent, n));
-                if a != b {
-                    let (low, high) = if a < b { (a, b) } else { (b, a) };
-                    parent[high as usize] = low;
-                }
+            })
+            .collect()
+    }
+
+    /// The direction nearest to unit normal `n` within `norm_thresh` (ties: the lower
+    /// index), or [`NO_DIRECTION`].
+    fn nearest_direction(&self, n: [f64; 3]) -> u32 {
+        let mut best = (NO_DIRECTION, self.norm_thresh);
+        for (j, d) in self.directions.iter().enumerate() {
+            let c = dot(n, *d).abs();
+            if c >= best.1 && (best.0 == NO_DIRECTION || c > best.1) {
+                best = (j as u32, c);
             }
         }
-        let mut keyed: Vec<(u32, u32)> = (0..masks.len())
-            .filter(|&i| masks[i] & bit != 0)
-            .map(|i| (find(&mut parent, i as u32), i as u32))
-            .collect();
-        keyed.sort_unstable();
-        keyed
-            .chunk_by(|a, b| a.0 == b.0)
-            .filter(|group| group.len() >= self.min_points)
-            .map(|group| (j, group.iter().map(|&(_, i)| i).collect()))
+        best.0
+    }
+
+    /// The pieces of every direction: the points `labels` gives it, connected through
+    /// neighbours with the same label that lie within `z_cut` of each other along it;
+    /// pieces with fewer than `min_points` dropped. Directions in parallel.
+    fn split(&self, labels: &[u32]) -> Vec<Piece> {
+        let mut members: Vec<Vec<u32>> = vec![Vec::new(); self.directions.len()];
+        let mut local = vec![0u32; labels.len()];
+        for (i, &l) in labels.iter().enumerate() {
+            if l != NO_DIRECTION {
+                local[i] = members[l as usize].len() as u32;
+                members[l as usize].push(i as u32);
+            }
+        }
+        members
+            .par_iter()
+            .enumerate()
+            .flat_map_iter(|(j, members)| {
+                let d = self.directions[j];
+                let mut parent: Vec<u32> = (0..members.len() as u32).collect();
+                for (a, &i) in members.iter().enumerate() {
+                    let p = self.points[i as usize];
+                    for &n in self.knn.of(i as usize) {
+                        if labels[n as usize] != j as u32 || n == i {
+                            continue;
+                        }
+                        let q = self.points[n as usize];
+                        if dot(d, [p[0] - q[0], p[1] - q[1], p[2] - q[2]]).abs() > self.z_cut {
+                            continue;
+                        }
+                        let (x, y) = (
+                            find(&mut parent, a as u32),
+                            find(&mut parent, local[n as usize]),
+                        );
+                        if x != y {
+                            let (low, high) = if x < y { (x, y) } else { (y, x) };
+                            parent[high as usize] = low;
+                        }
+                    }
+                }
+                let mut keyed: Vec<(u32, u32)> = (0..members.len() as u32)
+                    .map(|a| (find(&mut parent, a), members[a as usize]))
+                    .collect();
+                keyed.sort_unstable();
+                keyed
+                    .chunk_by(|a, b| a.0 == b.0)
+                    .filter(|group| group.len() >= self.min_points)
+                    .map(|group| (j, group.iter().map(|&(_, i)| i).collect()))
+                    .collect::<Vec<Piece>>()
+            })
             .collect()
     }
 }
+
+/// The root of `x` in a union-find forest, halving the path on the way.
+fn find(parent: &mut [u32], mut x: u32) -> u32 {
+    while parent[x as usize] != x {
+        let up = parent[parent[x as usize] as usize];
+        parent[x as usize] = up;
+        x = up;
+    }
+    x
+}
+
+/// No direction (a point whose normal agrees with none).
+const NO_DIRECTION: u32 = u32::MAX;
+
+/// Distinct labels counted among a point's neighbours at most.
+const MAX_VOTES: usize = 8;
 
 /// The polygon of every input point, by fit (see the module docs, step 6).
 fn fitted_labels(
