@@ -110,14 +110,7 @@ fn main() {
         vertices += p.vertices.len();
         boundary += p.stats.boundary_vertices;
         triangles += p.triangles.len();
-        area += p
-            .triangles
-            .iter()
-            .map(|t| {
-                let [a, b, c] = t.map(|v| p.vertices_2d[v as usize]);
-                0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]))
-            })
-            .sum::<f64>();
+        area += p.area();
         if let Some(t) = &p.texture {
             texels += u64::from(t.width) * u64::from(t.height);
             sum = t

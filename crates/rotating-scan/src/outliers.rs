@@ -134,16 +134,7 @@ pub fn beam_outliers(
     config: &BeamOutlierConfig,
 ) -> Result<Vec<u32>, ScanError> {
     config.validate()?;
-    if let Some(&index) = rings
-        .iter()
-        .flatten()
-        .find(|&&i| i as usize >= points.len())
-    {
-        return Err(ScanError::MemberOutOfRange {
-            index,
-            points: points.len(),
-        });
-    }
+    rings.check_members(points.len())?;
     let rings: Vec<&[u32]> = rings.iter().collect();
     // Beams in parallel, each with a reused buffer; the order of the result is the rings'.
     let per_ring: Vec<Vec<u32>> = rings

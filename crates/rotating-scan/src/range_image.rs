@@ -69,16 +69,7 @@ impl RangeImage {
                 reason: "needs at least one column and fewer than 2^32 pixels",
             });
         };
-        if let Some(&index) = rings
-            .iter()
-            .flatten()
-            .find(|&&i| i as usize >= points.len())
-        {
-            return Err(ScanError::MemberOutOfRange {
-                index,
-                points: points.len(),
-            });
-        }
+        rings.check_members(points.len())?;
         // Row r holds beam r only: the rows are filled in parallel.
         let mut source = vec![NO_POINT; pixels];
         let rings: Vec<&[u32]> = rings.iter().collect();

@@ -319,6 +319,17 @@ impl Rings {
         self.members.len()
     }
 
+    /// Checks that every member indexes one of `points` points.
+    ///
+    /// # Errors
+    /// [`ScanError::MemberOutOfRange`] naming the first member that does not.
+    pub fn check_members(&self, points: usize) -> Result<(), ScanError> {
+        match self.members.iter().find(|&&i| i as usize >= points) {
+            Some(&index) => Err(ScanError::MemberOutOfRange { index, points }),
+            None => Ok(()),
+        }
+    }
+
     /// The same beams with only the points `keep` accepts, order kept.
     #[must_use]
     pub fn retain(&self, mut keep: impl FnMut(u32) -> bool) -> Self {
