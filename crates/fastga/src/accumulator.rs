@@ -11,12 +11,9 @@ use crate::{FastGaError, unit_tolerance_checked};
 /// Default tolerance on `|‖n‖² − 1|` for a normal to count as unit length.
 pub const DEFAULT_UNIT_TOLERANCE: f64 = 1e-4;
 
-/// How an accumulator finds the cell of a normal. Both give the closest cell (up to ties
-/// within 1e-12 in the dot product); they differ in query speed and in what they cost to build.
-///
-/// Level 4, 100,000 random normals, one thread (see the crate README for the full table):
-/// the learned index builds in about 3 ms and integrates in about 10 ms, the cell table builds
-/// in about 10 ms more and integrates in about 4 ms.
+/// How an accumulator finds the cell of a normal. All give the closest cell (up to ties
+/// within 1e-12 in the dot product); they differ in query speed and in what they cost to
+/// build. The crate README compares them (query and build time per level).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Search {
     /// Algorithm 3 of the paper: S2 id, linear model with exact error bounds, branchless
@@ -24,12 +21,26 @@ pub enum Search {
     LearnedIndex,
     /// A table over the S2 cells two levels finer than the icosahedron (at most S2 level 8)
     /// listing every cell that can be closest inside each: a query is the S2 cell's face and
-    /// `(i, j)` plus the dot products with a few candidates. The fastest to query; the
-    /// default, since an accumulator is meant to be built once and reused. At level 7 its
-    /// table is coarse and slow to build: prefer [`LearnedIndex`](Self::LearnedIndex) there.
-    #[default]
+    /// `(i, j)` plus the dot products with a few candidates. The fastest to query, about half
+    /// the instructions of [`LearnedIndex`](Self::LearnedIndex), but about eight learned-index
+    /// queries' worth of work per table entry to build (6·4^(level + 2) entries). At level 7
+    /// its table is coarse and slow to build: prefer [`LearnedIndex`](Self::LearnedIndex) there.
     CellTable,
+    /// [`LearnedIndex`](Self::LearnedIndex) until the normals integrated, counting the call
+    /// at hand, reach [`TABLE_PAYS_AFTER`] per table entry, then [`CellTable`](Self::CellTable)
+    /// (built once, before that call): a one-off detection on a single frame never pays for
+    /// a table it would not win back, and an accumulator reused over a stream gets the table
+    /// once it has paid for it (the cost is at most about twice that of the better choice made
+    /// in hindsight). The default.
+    #[default]
+    Adaptive,
 }
+
+/// Normals per table entry that [`Search::Adaptive`] integrates with the learned index
+/// before it builds the cell table: building an entry costs about what eight queries save
+/// by going through the table instead of the learned index (instruction counts in the
+/// crate README).
+pub const TABLE_PAYS_AFTER: u64 = 8;
 
 /// Histogram of unit normals on a refined icosahedron (the paper's Gaussian accumulator).
 ///
@@ -50,9 +61,13 @@ pub enum Search {
 #[derive(Debug, Clone)]
 pub struct GaussianAccumulator {
     ico: Icosahedron,
-    search: CellSearch,
-    /// Present with [`Search::CellTable`].
+    learned: CellSearch,
+    /// Present with [`Search::CellTable`], and with [`Search::Adaptive`] once built.
     table: Option<CellTable>,
+    /// The search asked for.
+    search: Search,
+    /// Normals integrated so far (for [`Search::Adaptive`]).
+    integrated: u64,
     bins: Bins,
     layout: ImageLayout,
     unit_tolerance: f64,
@@ -60,7 +75,7 @@ pub struct GaussianAccumulator {
 
 impl GaussianAccumulator {
     /// An empty accumulator on the icosahedron refined `level` times (0 ..= 7; the paper uses
-    /// 3–5), searched with the default [`Search::CellTable`].
+    /// 3–5), searched with the default [`Search::Adaptive`].
     ///
     /// # Errors
     /// [`FastGaError::LevelOutOfRange`] above [`MAX_LEVEL`](crate::MAX_LEVEL).
@@ -81,8 +96,10 @@ impl GaussianAccumulator {
         let layout = ImageLayout::new(level);
         Ok(Self {
             ico,
-            search: learned,
+            learned,
             table,
+            search,
+            integrated: 0,
             bins,
             layout,
             unit_tolerance: DEFAULT_UNIT_TOLERANCE,
@@ -107,7 +124,7 @@ impl GaussianAccumulator {
     /// The worst-case errors `(min, max)` of `index − predicted index` of the id → index line
     /// over all cells, computed at construction; the binary search window spans them.
     pub fn model_error_bounds(&self) -> (i64, i64) {
-        self.search.error_bounds()
+        self.learned.error_bounds()
     }
 
     /// Bins `normals` (each of unit length within the tolerance; others are counted in
@@ -130,15 +147,24 @@ impl GaussianAccumulator {
             unit_tolerance: self.unit_tolerance,
             parallelism,
         };
-        let search = &self.search;
-        Ok(match &self.table {
+        if self.search == Search::Adaptive && self.table.is_none() {
+            let expected = (normals.len() as f64 * sample_fraction) as u64;
+            let entries = CellTable::entry_count(self.ico.level()) as u64;
+            if self.integrated.saturating_add(expected) >= TABLE_PAYS_AFTER * entries {
+                self.table = Some(CellTable::new(&self.ico, &self.learned));
+            }
+        }
+        let learned = &self.learned;
+        let stats = match &self.table {
             Some(table) => driver.run(normals, &mut self.bins, |batch, cells| {
                 table.find_batch(batch, cells)
             }),
             None => driver.run(normals, &mut self.bins, |batch, cells| {
-                search.find_batch(batch, cells)
+                learned.find_batch(batch, cells)
             }),
-        })
+        };
+        self.integrated = self.integrated.saturating_add(stats.integrated);
+        Ok(stats)
     }
 
     /// Index of the cell whose normal is closest to `p` (by angle). `p` need not be unit
@@ -147,17 +173,19 @@ impl GaussianAccumulator {
     pub fn find_cell(&self, p: [f64; 3]) -> u32 {
         match &self.table {
             Some(table) => table.find(p),
-            None => self.search.find(p),
+            None => self.learned.find(p),
         }
     }
 
     /// The search this accumulator was built with.
     pub fn search(&self) -> Search {
-        if self.table.is_some() {
-            Search::CellTable
-        } else {
-            Search::LearnedIndex
-        }
+        self.search
+    }
+
+    /// Whether queries go through the cell table now ([`Search::CellTable`], or
+    /// [`Search::Adaptive`] once it built the table).
+    pub fn uses_table(&self) -> bool {
+        self.table.is_some()
     }
 
     /// Empties every cell.

@@ -27,7 +27,7 @@ pub struct FastGaConfig {
     /// Sequential or rayon integration; results are identical. Default [`Parallelism::Rayon`].
     pub parallelism: Parallelism,
     /// How normals are matched to cells; results are identical. Default
-    /// [`Search::CellTable`].
+    /// [`Search::Adaptive`].
     pub search: Search,
 }
 
@@ -41,7 +41,7 @@ impl Default for FastGaConfig {
             min_cluster_weight: 0.15,
             unit_tolerance: crate::accumulator::DEFAULT_UNIT_TOLERANCE,
             parallelism: Parallelism::Rayon,
-            search: Search::CellTable,
+            search: Search::Adaptive,
         }
     }
 }

@@ -9,8 +9,10 @@
 //!    found by **Algorithm 3** ([`Search::LearnedIndex`]: its S2 id, a least-squares line from
 //!    id to array index with exact worst-case error bounds, a branchless binary search in that
 //!    window, then steepest ascent over the 1-ring neighbour matrix by true angular distance)
-//!    or, by default, by a **cell table** built from it ([`Search::CellTable`]: the candidate
-//!    cells of each S2 cell two levels finer than the icosahedron, about twice as fast);
+//!    or by a **cell table** built from it ([`Search::CellTable`]: the candidate cells of each
+//!    S2 cell two levels finer than the icosahedron, about twice as fast to query); by
+//!    default ([`Search::Adaptive`]) the table is built once the normals integrated have
+//!    paid for it;
 //! 3. the vertex values (mean of the incident cells) are **unwrapped** into the five-chart
 //!    image of Cohen et al. ([`UnwrappedImage`], writable as PNG) normalised to 0–255, whose
 //!    3×3 local maxima above `value_threshold` are the [`Peak`]s;
@@ -54,7 +56,7 @@ pub mod s2id;
 mod search;
 mod table;
 
-pub use accumulator::{DEFAULT_UNIT_TOLERANCE, GaussianAccumulator, Search};
+pub use accumulator::{DEFAULT_UNIT_TOLERANCE, GaussianAccumulator, Search, TABLE_PAYS_AFTER};
 pub use config::{Detection, FastGa, FastGaConfig, dominant_normals};
 pub use error::FastGaError;
 pub use icosahedron::{Icosahedron, MAX_LEVEL, NO_NEIGHBOR, NORTH_POLE, SOUTH_POLE};

@@ -103,10 +103,19 @@ pub(crate) struct CellTable {
 }
 
 impl CellTable {
+    /// The S2 level of the table of an icosahedron of `level`.
+    fn s2_level(level: u32) -> u32 {
+        (level + LEVELS_FINER).min(MAX_TABLE_LEVEL)
+    }
+
+    /// The number of entries of the table of an icosahedron of `level` (one per S2 cell).
+    pub(crate) fn entry_count(level: u32) -> usize {
+        6 << (2 * Self::s2_level(level))
+    }
+
     /// Builds the table of `ico`, using `search` to find the closest cells of S2 cell centres.
     pub(crate) fn new(ico: &Icosahedron, search: &CellSearch) -> Self {
-        let level = (ico.level() + LEVELS_FINER).min(MAX_TABLE_LEVEL);
-        let size = 1u32 << level;
+        let size = 1u32 << Self::s2_level(ico.level());
         let n = size as usize;
         let rows: Vec<RowCandidates> = (0..6 * n)
             .into_par_iter()

@@ -173,3 +173,38 @@ proptest! {
         prop_assert!(dot(n[found as usize], p) / norm >= dot(n[best as usize], p) / norm - 1e-12);
     }
 }
+
+/// `Search::Adaptive` uses the learned index until the normals integrated, counting the call
+/// at hand, reach `TABLE_PAYS_AFTER` per table entry (6·4^(level + 2)), then builds the
+/// table; its counts and sums stay those of the two fixed searches before and after.
+#[test]
+fn adaptive_search_builds_the_table_once_it_pays_and_bins_alike() {
+    let level = 1;
+    let entries = 6u64 << (2 * (level + 2));
+    let threshold = fastga::TABLE_PAYS_AFTER * entries;
+    let normals = random_units(21, threshold as usize / 2 + 1);
+    let mut adaptive = GaussianAccumulator::new(level).unwrap();
+    let mut table = GaussianAccumulator::with_search(level, Search::CellTable).unwrap();
+    let mut learned = GaussianAccumulator::with_search(level, Search::LearnedIndex).unwrap();
+    assert_eq!(adaptive.search(), Search::Adaptive);
+    assert!(!adaptive.uses_table() && table.uses_table() && !learned.uses_table());
+    for call in 0..3 {
+        for ga in [&mut adaptive, &mut table, &mut learned] {
+            ga.integrate(&normals, 1.0, Parallelism::Sequential).unwrap();
+        }
+        // Calls 0 and 1 integrate half the threshold and one more each: the second reaches it
+        // and builds the table first.
+        assert_eq!(adaptive.uses_table(), call >= 1, "call {call}");
+        assert_eq!(snapshot(&adaptive), snapshot(&table), "call {call}");
+        assert_eq!(snapshot(&adaptive), snapshot(&learned), "call {call}");
+    }
+    // One call that alone reaches the threshold builds the table at once.
+    let mut once = GaussianAccumulator::new(level).unwrap();
+    let many = random_units(22, threshold as usize);
+    once.integrate(&many, 1.0, Parallelism::Sequential).unwrap();
+    assert!(once.uses_table());
+    // A sample counts as the normals it keeps.
+    let mut sampled = GaussianAccumulator::new(level).unwrap();
+    sampled.integrate(&many, 0.5, Parallelism::Sequential).unwrap();
+    assert!(!sampled.uses_table());
+}
