@@ -6,6 +6,7 @@
 //!   stage the original measures at 26.3 ms, the whole run at 264.5 ms;
 //! * `realsense/rgbd_opc.npy` with the `rgbd` preset, the same;
 //! * post-processing alone (the `rgbd` preset's α, β, γ, δ) of the polygons of both frames.
+#![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
 
 use std::hint::black_box;
 use std::time::Duration;

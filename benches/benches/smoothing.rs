@@ -14,6 +14,7 @@
 //! with NaN holes when they are absent. GPU rows (steady state: one `GpuSmoother`, upload
 //! and read-back included each call; `first_call`: creating the smoother too) run where an
 //! adapter exists.
+#![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
 
 use std::hint::black_box;
 use std::time::Duration;

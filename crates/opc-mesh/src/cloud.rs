@@ -278,7 +278,7 @@ mod tests {
     fn flat_vec_with_odd_capacity_is_copied() {
         let mut flat: Vec<f64> = grid(2, 2).iter().flatten().copied().collect();
         flat.reserve_exact(1);
-        if flat.capacity() % 3 == 0 {
+        if flat.capacity().is_multiple_of(3) {
             flat.reserve_exact(flat.capacity() + 1);
         }
         assert_ne!(flat.capacity() % 3, 0);

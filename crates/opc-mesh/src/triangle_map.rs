@@ -87,7 +87,7 @@ impl TriangleMap {
     pub fn cell(&self, gid: usize) -> Option<(usize, usize, CellTriangle)> {
         (gid < self.map.len()).then(|| {
             let cell = gid / 2;
-            let k = if gid % 2 == 0 {
+            let k = if gid.is_multiple_of(2) {
                 CellTriangle::First
             } else {
                 CellTriangle::Second

@@ -1,6 +1,7 @@
 //! Oracle tests: for random regions of grids and Delaunay meshes, every extracted polygon
 //! is OGC-valid (geo's `Validation`) and its area (shell minus holes) equals the summed area
 //! of the region's triangles.
+#![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
 
 use geo::{Area, LineString, Polygon as GeoPolygon, Validation, Winding};
 use halfedge_mesh::{HalfEdgeMesh, NO_TWIN};

@@ -1,4 +1,5 @@
 //! End-to-end tests of the `polylidar` binary.
+#![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
 
 mod common;
 

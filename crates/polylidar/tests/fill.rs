@@ -15,7 +15,7 @@ fn riddled_wall() -> (OrganizedPointCloud, Vec<bool>) {
             state = state
                 .wrapping_mul(6_364_136_223_846_793_005)
                 .wrapping_add(1);
-            let drop = (state >> 33) % 3 == 0;
+            let drop = (state >> 33).is_multiple_of(3);
             missing.push(drop);
             if drop {
                 return [f64::NAN; 3];

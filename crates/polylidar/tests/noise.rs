@@ -1,4 +1,5 @@
 //! The point-noise estimator and `laplacian.iterations = "auto"`.
+#![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
 
 use polylidar::{
     Config, LaplacianConfig, LaplacianIterations, OrganizedPointCloud, Polylidar,

@@ -1,4 +1,5 @@
 //! The real fixtures of `../shared/fixtures` end to end with the papers' presets.
+#![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
 
 use polylidar::{Config, Extraction, OrganizedPointCloud, Polylidar};
 use polylidar_io::{InputKind, read_input};

@@ -1,5 +1,6 @@
 //! Generated scenes with known planes through the 3D pipeline: organized scans and meshes
 //! of the same scenes, recovered with the right normals, counts and holes.
+#![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
 
 use polylidar::{
     BilateralConfig, Config, ExtractedPolygon, Extraction, FastGaSection, LaplacianConfig,

@@ -361,15 +361,15 @@ pub fn evaluate(
         let run = &points[start..end];
         let sum = coordinate_sum(run);
         // A non-finite coordinate makes the sum non-finite; only then is the run searched.
-        if !(sum[0] + sum[1] + sum[2]).is_finite() {
-            if let Some(offset) = run.iter().position(|q| !is_finite(q)) {
-                let index = start + offset;
-                return Err(MetricsError::NonFinitePoint {
-                    index,
-                    truth: truth[index],
-                    predicted: predicted[index],
-                });
-            }
+        if !(sum[0] + sum[1] + sum[2]).is_finite()
+            && let Some(offset) = run.iter().position(|q| !is_finite(q))
+        {
+            let index = start + offset;
+            return Err(MetricsError::NonFinitePoint {
+                index,
+                truth: truth[index],
+                predicted: predicted[index],
+            });
         }
         flush(t, p, end - start, sum);
     }

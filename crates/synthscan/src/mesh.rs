@@ -91,13 +91,12 @@ impl Scene {
         count: usize,
         seed: u64,
     ) -> Result<PointSample, SceneError> {
-        if let Some(ls) = labels {
-            if let Some(&label) = ls
+        if let Some(ls) = labels
+            && let Some(&label) = ls
                 .iter()
                 .find(|&&l| !self.faces().iter().any(|f| f.label() == l))
-            {
-                return Err(SceneError::UnknownLabel { label });
-            }
+        {
+            return Err(SceneError::UnknownLabel { label });
         }
         // Every triangle of every chosen face, with its cumulative area.
         let mut tris: Vec<([V2; 3], usize)> = Vec::new();

@@ -1,5 +1,6 @@
 //! What the tests of the `polylidar` binary share: running it, a scratch folder, reading
 //! its `--json` output.
+#![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
 
 use std::path::PathBuf;
 use std::process::{Command, Output};
