@@ -95,9 +95,11 @@ pub struct InputArgs {
     #[arg(long, value_name = "N", default_value_t = 1, allow_negative_numbers = true, value_parser = clap::value_parser!(u32).range(1..))]
     pub stride: u32,
     /// Memory budget of reading the input and running the pipeline on it, e.g. 512M, 4G:
-    /// what the file will need (its pixels or points, about 400 bytes each in the
+    /// what the file will need (its pixels or points, about 700 bytes each in the
     /// pipeline) is estimated from its header and refused past this before anything is
-    /// allocated. Default: 2G or half of the physical memory, whichever is smaller.
+    /// allocated. Default: scaled to the input file's size, 384 MiB plus 64 bytes per byte
+    /// of the file (a file of 1 MiB gets 448 MiB, so a small file that claims gigabytes is
+    /// refused early), at most 2G or half of the physical memory, whichever is smaller.
     #[arg(long, value_name = "SIZE", value_parser = polylidar_io::parse_memory_size)]
     pub max_memory: Option<u64>,
     /// Parameter flags, each overriding the preset and the config file.

@@ -24,8 +24,18 @@ pub struct Loaded {
     pub truth: Option<Vec<i32>>,
 }
 
+/// The memory budget of reading `path`: `--max-memory` when given, else the default budget
+/// of the file's size ([`Limits::for_path`]: 384 MiB plus 64 bytes per byte of the file,
+/// at most 2 GiB or half the physical memory).
+pub fn limits_for(path: &Path, max_memory: Option<u64>) -> Limits {
+    max_memory.map_or_else(
+        || Limits::for_path(path),
+        |bytes| Limits::default().with_max_memory(bytes),
+    )
+}
+
 /// Loads `path`, or the demo, with organized input (and its ground truth) downsampled by
-/// `stride`, within `max_memory` bytes (`--max-memory`; default: [`Limits::default`]).
+/// `stride`, within `max_memory` bytes (`--max-memory`; default: [`limits_for`]).
 /// Invalid (NaN) points skipped from an unorganized cloud are reported on stderr.
 ///
 /// # Errors
@@ -53,10 +63,7 @@ pub fn load_with_camera(
 ) -> Result<Loaded, CliError> {
     let mut loaded = match (path, demo) {
         (Some(path), _) => {
-            let limits = max_memory.map_or_else(Limits::default, |bytes| {
-                Limits::default().with_max_memory(bytes)
-            });
-            let (input, notes) = read_with_camera(path, camera, &limits)?;
+            let (input, notes) = read_with_camera(path, camera, &limits_for(path, max_memory))?;
             if notes.invalid_skipped > 0 {
                 eprintln!(
                     "note: {}: {} skipped (a NaN coordinate marks an invalid point)",

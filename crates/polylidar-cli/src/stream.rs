@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use std::time::Duration;
 
 use clap::Args;
-use polylidar::io::{DepthCamera, Input, Limits};
+use polylidar::io::{DepthCamera, Input};
 use polylidar::output::{PolygonSet, feature_collection};
 use polylidar::stream::{StreamOptions, StreamedFrame};
 use polylidar::{Extraction, OrganizedPointCloud, Polylidar, PolylidarError};
@@ -95,11 +95,9 @@ pub fn stream(args: StreamArgs) -> Result<Outcome, CliError> {
         None => vec![None; frames.len()],
     };
     let camera = camera(&args.camera)?;
-    let limits = args.input.max_memory.map_or_else(Limits::default, |bytes| {
-        Limits::default().with_max_memory(bytes)
-    });
+    let max_memory = args.input.max_memory;
     let stride = args.input.stride as usize;
-    let first = load_cloud(&frames[0], &camera, &limits, stride)?;
+    let first = load_cloud(&frames[0], &camera, max_memory, stride)?;
     let chosen = params::config_for(&args.input, &Input::Organized(first), None)?;
     let polylidar = Polylidar::new(chosen.config)?;
     let set = if !args.raw && polylidar.config().postprocess.is_some() {
@@ -115,7 +113,7 @@ pub fn stream(args: StreamArgs) -> Result<Outcome, CliError> {
         .map(|(depth, color)| (depth.display().to_string(), (depth, color)))
         .collect();
     let load = move |(depth, color): (PathBuf, Option<PathBuf>)| {
-        let cloud = load_cloud(&depth, &camera, &limits, stride).map_err(pipeline_error)?;
+        let cloud = load_cloud(&depth, &camera, max_memory, stride).map_err(pipeline_error)?;
         let colors = match color {
             Some(path) => Some(read_color(&path, &cloud, stride).map_err(pipeline_error)?),
             None => None,
@@ -183,14 +181,16 @@ fn pipeline_error(e: CliError) -> PolylidarError {
     }
 }
 
-/// Reads a frame as an organized cloud, downsampled by `stride`.
+/// Reads a frame as an organized cloud, downsampled by `stride`, within `--max-memory` or
+/// the default budget of the frame's size.
 fn load_cloud(
     path: &Path,
     camera: &DepthCamera,
-    limits: &Limits,
+    max_memory: Option<u64>,
     stride: usize,
 ) -> Result<OrganizedPointCloud, CliError> {
-    let (input, _) = read_with_camera(path, camera, limits)?;
+    let limits = crate::input::limits_for(path, max_memory);
+    let (input, _) = read_with_camera(path, camera, &limits)?;
     let Input::Organized(cloud) = input else {
         return Err(unsupported(&format!(
             "{}: a stream frame must be a depth PNG or an organized cloud, not {}",

@@ -61,9 +61,10 @@ pub fn format_of(path: impl AsRef<Path>) -> Option<Format> {
 /// # Errors
 /// Unknown extension, or any error of the format's reader; an NPY of another shape; a depth
 /// image whose size differs from its metadata's resolution; an input larger than the
-/// default [`Limits`] allow.
+/// budget of its size ([`Limits::for_path`]) allows.
 pub fn read_input(path: impl AsRef<Path>) -> Result<InputKind, IoError> {
-    read_input_with(path, &Limits::default()).map(|(kind, _)| kind)
+    let path = path.as_ref();
+    read_input_with(path, &Limits::for_path(path)).map(|(kind, _)| kind)
 }
 
 /// What a read met besides the data it returns.

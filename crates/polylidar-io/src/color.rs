@@ -31,7 +31,8 @@ pub struct ColorImage {
 /// # Errors
 /// Unreadable file, neither PNG nor JPEG, or a corrupt picture.
 pub fn read_color_image(path: impl AsRef<Path>) -> Result<ColorImage, IoError> {
-    read_color_image_with(path, &Limits::default())
+    let path = path.as_ref();
+    read_color_image_with(path, &Limits::for_path(path))
 }
 
 /// As [`read_color_image`], within `limits` (the picture's buffers count, no pipeline
@@ -64,7 +65,7 @@ pub fn read_color_image_with(
 /// # Errors
 /// As [`read_color_image`], with no file name.
 pub fn parse_color_image(bytes: &[u8]) -> Result<ColorImage, IoError> {
-    parse_color_image_with(bytes, &Limits::default())
+    parse_color_image_with(bytes, &Limits::for_input_size(bytes.len() as u64))
 }
 
 /// As [`parse_color_image`], within `limits`.
@@ -189,7 +190,7 @@ pub fn color_path_for(depth: impl AsRef<Path>) -> Result<PathBuf, IoError> {
 /// As [`crate::read_pcd`].
 pub fn read_pcd_colors(path: impl AsRef<Path>) -> Result<Option<Vec<[u8; 3]>>, IoError> {
     let path = path.as_ref();
-    let limits = Limits::default();
+    let limits = Limits::for_path(path);
     crate::pcd::packed_colors(&limits.read_file(path, Format::Pcd)?, &limits)
         .map_err(|k| IoError::new(Format::Pcd, k).at(path))
 }
@@ -199,7 +200,8 @@ pub fn read_pcd_colors(path: impl AsRef<Path>) -> Result<Option<Vec<[u8; 3]>>, I
 /// # Errors
 /// As [`crate::parse_pcd`].
 pub fn parse_pcd_colors(bytes: &[u8]) -> Result<Option<Vec<[u8; 3]>>, IoError> {
-    crate::pcd::packed_colors(bytes, &Limits::default()).map_err(|k| IoError::new(Format::Pcd, k))
+    crate::pcd::packed_colors(bytes, &Limits::for_input_size(bytes.len() as u64))
+        .map_err(|k| IoError::new(Format::Pcd, k))
 }
 
 /// The bytes of a packed PCL colour.

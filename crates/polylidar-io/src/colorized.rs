@@ -100,7 +100,8 @@ fn jet_position(c: [f32; 3]) -> (f32, f32) {
 /// Unreadable or corrupt PNG, an image that is not 8-bit RGB, or more than 1 % of coloured
 /// pixels off the Jet colormap (not a colorized depth picture).
 pub fn read_colorized_depth_png(path: impl AsRef<Path>) -> Result<ColorizedDepth, IoError> {
-    read_colorized_depth_png_with(path, &Limits::default())
+    let path = path.as_ref();
+    read_colorized_depth_png_with(path, &Limits::for_path(path))
 }
 
 /// As [`read_colorized_depth_png`], within `limits`.
@@ -121,7 +122,7 @@ pub fn read_colorized_depth_png_with(
 /// # Errors
 /// As [`read_colorized_depth_png`], with no file name.
 pub fn parse_colorized_depth_png(bytes: &[u8]) -> Result<ColorizedDepth, IoError> {
-    parse_colorized_depth_png_with(bytes, &Limits::default())
+    parse_colorized_depth_png_with(bytes, &Limits::for_input_size(bytes.len() as u64))
 }
 
 /// As [`parse_colorized_depth_png`], within `limits`.

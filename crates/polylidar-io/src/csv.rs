@@ -17,10 +17,11 @@ use crate::limits::{Limits, times};
 /// # Errors
 /// An [`IoError`] naming the line: a value that is not a number (also in a first row that
 /// mixes numbers and names, such as a mistyped data row), a row of the wrong length, a
-/// first row with neither 2 nor 3 values, or no data row at all; more lines than the
-/// default [`Limits`] allow.
+/// first row with neither 2 nor 3 values, or no data row at all; more lines than the budget of
+/// the file's size ([`Limits::for_path`]) allows.
 pub fn read_csv_points(path: impl AsRef<Path>) -> Result<PointTable, IoError> {
-    read_csv_points_with(path, &Limits::default())
+    let path = path.as_ref();
+    read_csv_points_with(path, &Limits::for_path(path))
 }
 
 /// As [`read_csv_points`], within `limits`.
@@ -41,7 +42,7 @@ pub fn read_csv_points_with(
 /// # Errors
 /// As [`read_csv_points`], with no file name.
 pub fn parse_csv_points(bytes: &[u8]) -> Result<PointTable, IoError> {
-    parse_csv_points_with(bytes, &Limits::default())
+    parse_csv_points_with(bytes, &Limits::for_input_size(bytes.len() as u64))
 }
 
 /// As [`parse_csv_points`], within `limits`.

@@ -41,9 +41,10 @@ pub struct CameraIntrinsics {
 /// # Errors
 /// Unreadable or corrupt PNG, or an image that is not 16-bit single-channel (8-bit,
 /// colour, alpha or palette images are rejected rather than guessed at); more pixels than
-/// the default [`Limits`] allow (each costs its decoded bytes and the pipeline's share).
+/// [`Limits::for_path`] allows (each costs its decoded bytes and the pipeline's share).
 pub fn read_depth_png(path: impl AsRef<Path>) -> Result<DepthImage, IoError> {
-    read_depth_png_with(path, &Limits::default())
+    let path = path.as_ref();
+    read_depth_png_with(path, &Limits::for_path(path))
 }
 
 /// As [`read_depth_png`], within `limits`.
@@ -60,7 +61,7 @@ pub fn read_depth_png_with(path: impl AsRef<Path>, limits: &Limits) -> Result<De
 /// # Errors
 /// As [`read_depth_png`], with no file name.
 pub fn parse_depth_png(bytes: &[u8]) -> Result<DepthImage, IoError> {
-    parse_depth_png_with(bytes, &Limits::default())
+    parse_depth_png_with(bytes, &Limits::for_input_size(bytes.len() as u64))
 }
 
 /// As [`parse_depth_png`], within `limits`.

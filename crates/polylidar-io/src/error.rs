@@ -218,7 +218,7 @@ pub(crate) type KindResult<T> = Result<T, ErrorKind>;
 /// Reads the whole file at `path` within the default [`crate::Limits`], attributing a
 /// failure to `format`.
 pub(crate) fn read_file(path: &Path, format: Format) -> Result<Vec<u8>, IoError> {
-    crate::Limits::default().read_file(path, format)
+    crate::Limits::for_path(path).read_file(path, format)
 }
 
 /// Writes `bytes` to `path` atomically ([`crate::atomic::write_atomic`]: a failed write

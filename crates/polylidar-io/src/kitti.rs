@@ -53,9 +53,10 @@ impl KittiScan {
 /// # Errors
 /// An [`IoError`] for an unreadable file, an empty one, a size that is not a whole number
 /// of 16-byte records (naming the stray bytes), or a non-finite value (naming the record
-/// and the field), more points than the default [`Limits`] allow.
+/// and the field), more points than [`Limits::for_path`] allows.
 pub fn read_kitti_bin(path: impl AsRef<Path>) -> Result<KittiScan, IoError> {
-    read_kitti_bin_with(path, &Limits::default())
+    let path = path.as_ref();
+    read_kitti_bin_with(path, &Limits::for_path(path))
 }
 
 /// As [`read_kitti_bin`], within `limits`.
@@ -86,7 +87,7 @@ pub fn read_kitti_bin_with(path: impl AsRef<Path>, limits: &Limits) -> Result<Ki
 /// # Errors
 /// As [`read_kitti_bin`], with no file name.
 pub fn parse_kitti_bin(bytes: &[u8]) -> Result<KittiScan, IoError> {
-    parse_kitti_bin_with(bytes, &Limits::default())
+    parse_kitti_bin_with(bytes, &Limits::for_input_size(bytes.len() as u64))
 }
 
 /// As [`parse_kitti_bin`], within `limits`.

@@ -98,8 +98,8 @@ pub use kitti::{
 pub use lidar::{LasWriteOptions, read_las_bounds, write_las};
 pub use lidar::{parse_las, parse_las_with, read_las, read_las_unit, read_las_with};
 pub use limits::{
-    DEFAULT_MAX_MEMORY, Limits, PIPELINE_BYTES_PER_POINT, default_max_memory, format_bytes,
-    parse_memory_size, physical_memory,
+    BUDGET_FLOOR, BUDGET_PER_INPUT_BYTE, DEFAULT_MAX_MEMORY, Limits, PIPELINE_BYTES_PER_POINT,
+    default_max_memory, format_bytes, parse_memory_size, physical_memory,
 };
 pub use npy::{
     Dtype, NpyArray, encode_npy_f32, encode_npy_f64, encode_npy_i32, parse_npy, parse_npy_with,

@@ -31,19 +31,36 @@ use crate::error::{ErrorKind, Format, IoError, KindResult};
 /// The cap of the default budget: 2 GiB.
 pub const DEFAULT_MAX_MEMORY: u64 = 2 << 30;
 
+/// The budget of an input of no size (a stream, a FIFO, bytes of length 0) under
+/// [`Limits::for_input_size`]: 384 MiB, enough for every shared fixture of at most 1 MB
+/// and for depth images up to 848 × 480 pixels however well they compress (275 MiB).
+pub const BUDGET_FLOOR: u64 = 384 << 20;
+
+/// Budget bytes granted per byte of input on top of [`BUDGET_FLOOR`] under
+/// [`Limits::for_input_size`]. Of the shared fixtures, only compressed files claim more
+/// than this per byte of the file (depth PNGs 1,400–2,300, the LAZ 130), and those stay
+/// within the floor; uncompressed PCD, NPY and KITTI files need 25–60. A file of 1 MiB
+/// gets at most 448 MiB, so peak RSS on any input of at most 1 MB stays under 512 MB
+/// (`docs/bench/hardening.md`).
+pub const BUDGET_PER_INPUT_BYTE: u64 = 64;
+
 /// What the polylidar pipeline needs per input point, beyond the reader's own arrays: the
 /// point (or organized pixel) as `f64` and `f32` copies, its share of the half-edge mesh
 /// (about two triangles of three half-edges), normals, smoothing buffers, labels and the
-/// Delaunay or right-cut working memory. Measured peak RSS of `polylidar extract` on the
-/// shared fixtures stays under this per point (`docs/bench/hardening.md`).
-pub const PIPELINE_BYTES_PER_POINT: u64 = 400;
+/// Delaunay or right-cut working memory, the 3D path's normals and neighbour lists. Peak
+/// RSS of `polylidar extract` on the shared fixtures, less the run's fixed 16–35 MB, is
+/// 360–610 bytes per point for organized clouds and depth images and up to 810 for the
+/// unorganized 3D path (`docs/bench/hardening.md`); the big inputs that a budget decides
+/// on are organized, so 700.
+pub const PIPELINE_BYTES_PER_POINT: u64 = 700;
 
 /// The memory budget of a read.
 ///
 /// [`Limits::default`] allows [`DEFAULT_MAX_MEMORY`] (2 GiB) or half of the machine's
 /// physical memory, whichever is smaller, and counts [`PIPELINE_BYTES_PER_POINT`] for the
-/// pipeline's use of each point; [`Limits::reading_only`] counts the reader's own
-/// allocations alone.
+/// pipeline's use of each point; [`Limits::for_input_size`] (what the readers without a
+/// `_with` use, and the command line without `--max-memory`) scales that budget down to
+/// the input's size; [`Limits::reading_only`] counts the reader's own allocations alone.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Limits {
     /// Most bytes a read may plan for: the file's bytes, the decoded arrays, and the
@@ -70,6 +87,35 @@ impl Limits {
             max_memory: u64::MAX,
             pipeline_bytes_per_point: 0,
         }
+    }
+
+    /// The default budget for an input of `bytes` bytes: [`BUDGET_FLOOR`] plus
+    /// [`BUDGET_PER_INPUT_BYTE`] per byte, capped at the default budget ([`Limits::default`]:
+    /// 2 GiB or half the physical memory). Small inputs thus get a small budget — a
+    /// kilobyte-sized decompression bomb is refused at 384 MiB, not at 2 GiB — and big files
+    /// the room their points need.
+    ///
+    /// ```
+    /// use polylidar_io::{BUDGET_FLOOR, Limits};
+    ///
+    /// assert_eq!(Limits::for_input_size(0).max_memory, BUDGET_FLOOR.min(Limits::default().max_memory));
+    /// assert!(Limits::for_input_size(1 << 20).max_memory <= 448 << 20);
+    /// assert_eq!(Limits::for_input_size(u64::MAX), Limits::default());
+    /// ```
+    pub fn for_input_size(bytes: u64) -> Self {
+        let cap = default_max_memory();
+        let scaled = BUDGET_FLOOR.saturating_add(bytes.saturating_mul(BUDGET_PER_INPUT_BYTE));
+        Limits::default().with_max_memory(scaled.min(cap))
+    }
+
+    /// [`Limits::for_input_size`] of the file at `path`: its size when it is a regular
+    /// file, else 0 (a FIFO, a device, a path that cannot be read: the floor).
+    pub fn for_path(path: impl AsRef<Path>) -> Self {
+        let bytes = std::fs::metadata(path)
+            .ok()
+            .filter(std::fs::Metadata::is_file)
+            .map_or(0, |m| m.len());
+        Self::for_input_size(bytes)
     }
 
     /// The same limits with a budget of `bytes`.
@@ -275,6 +321,27 @@ mod tests {
         assert!(parse_memory_size("").is_err());
         assert_eq!(format_bytes(512), "512 B");
         assert_eq!(format_bytes(3 << 29), "1.5 GiB");
+    }
+
+    #[test]
+    fn scaled_budget_grows_with_the_input_and_stops_at_the_cap() {
+        let cap = Limits::default().max_memory;
+        let floor = BUDGET_FLOOR.min(cap);
+        assert_eq!(Limits::for_input_size(0).max_memory, floor);
+        let mib = Limits::for_input_size(1 << 20).max_memory;
+        assert_eq!(mib, (BUDGET_FLOOR + (64 << 20)).min(cap));
+        assert!(mib <= 448 << 20);
+        assert!(Limits::for_input_size(10 << 20).max_memory >= mib);
+        assert_eq!(Limits::for_input_size(1 << 40), Limits::default());
+        let dir = test_fixtures::scratch_dir("polylidar-io-limits", "for-path");
+        let file = dir.join("two_mib.bin");
+        std::fs::write(&file, vec![0u8; 2 << 20]).unwrap();
+        assert_eq!(Limits::for_path(&file), Limits::for_input_size(2 << 20));
+        assert_eq!(Limits::for_path(&dir), Limits::for_input_size(0));
+        assert_eq!(
+            Limits::for_path(dir.join("missing")),
+            Limits::for_input_size(0)
+        );
     }
 
     #[test]

@@ -23,7 +23,8 @@ pub fn read_obj(path: impl AsRef<Path>) -> Result<MeshData, IoError> {
 /// # Errors
 /// As [`read_obj`].
 pub fn read_obj_with_stats(path: impl AsRef<Path>) -> Result<(MeshData, MeshStats), IoError> {
-    read_obj_with(path, &Limits::default())
+    let path = path.as_ref();
+    read_obj_with(path, &Limits::for_path(path))
 }
 
 /// As [`read_obj_with_stats`], within `limits` (counted from the `v` and `f` statements
@@ -53,7 +54,7 @@ pub fn parse_obj(bytes: &[u8]) -> Result<MeshData, IoError> {
 /// # Errors
 /// As [`read_obj`], with no file name.
 pub fn parse_obj_with_stats(bytes: &[u8]) -> Result<(MeshData, MeshStats), IoError> {
-    parse_obj_with(bytes, &Limits::default())
+    parse_obj_with(bytes, &Limits::for_input_size(bytes.len() as u64))
 }
 
 /// As [`parse_obj_with_stats`], within `limits`.

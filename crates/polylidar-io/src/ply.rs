@@ -296,7 +296,8 @@ pub fn read_ply(path: impl AsRef<Path>) -> Result<MeshData, IoError> {
 /// # Errors
 /// As [`read_ply`].
 pub fn read_ply_with_stats(path: impl AsRef<Path>) -> Result<(MeshData, MeshStats), IoError> {
-    read_ply_with(path, &Limits::default())
+    let path = path.as_ref();
+    read_ply_with(path, &Limits::for_path(path))
 }
 
 /// As [`read_ply_with_stats`], within `limits` (counted from the header's element counts
@@ -326,7 +327,7 @@ pub fn parse_ply(bytes: &[u8]) -> Result<MeshData, IoError> {
 /// # Errors
 /// As [`read_ply`], with no file name.
 pub fn parse_ply_with_stats(bytes: &[u8]) -> Result<(MeshData, MeshStats), IoError> {
-    parse_ply_with(bytes, &Limits::default())
+    parse_ply_with(bytes, &Limits::for_input_size(bytes.len() as u64))
 }
 
 /// As [`parse_ply_with_stats`], within `limits`.
@@ -429,7 +430,7 @@ fn parse(bytes: &[u8], limits: &Limits) -> KindResult<(MeshData, MeshStats)> {
 /// As [`read_ply`].
 pub fn read_ply_colors(path: impl AsRef<Path>) -> Result<Option<Vec<[u8; 3]>>, IoError> {
     let path = path.as_ref();
-    let limits = Limits::default();
+    let limits = Limits::for_path(path);
     vertex_colors(
         &limits.read_file(path, Format::Ply)?,
         &limits.reading_only(),
@@ -442,8 +443,11 @@ pub fn read_ply_colors(path: impl AsRef<Path>) -> Result<Option<Vec<[u8; 3]>>, I
 /// # Errors
 /// As [`parse_ply`].
 pub fn parse_ply_colors(bytes: &[u8]) -> Result<Option<Vec<[u8; 3]>>, IoError> {
-    vertex_colors(bytes, &Limits::default().reading_only())
-        .map_err(|k| IoError::new(Format::Ply, k))
+    vertex_colors(
+        bytes,
+        &Limits::for_input_size(bytes.len() as u64).reading_only(),
+    )
+    .map_err(|k| IoError::new(Format::Ply, k))
 }
 
 fn vertex_colors(bytes: &[u8], limits: &Limits) -> KindResult<Option<Vec<[u8; 3]>>> {

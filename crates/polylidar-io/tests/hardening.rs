@@ -9,8 +9,8 @@ use std::io::Cursor;
 
 use polylidar_io::{
     ErrorKind, InputKind, Limits, PcdEncoding, PcdWriteOptions, PointCloud, encode_pcd, lzf,
-    parse_csv_points, parse_depth_png, parse_las, parse_npy_with, parse_pcd, parse_pcd_fields,
-    parse_ply, read_input_with, read_pcd_with, write_pcd_with_options,
+    parse_csv_points, parse_depth_png, parse_depth_png_with, parse_las, parse_npy_with, parse_pcd,
+    parse_pcd_fields, parse_ply, read_input_with, read_pcd_with, write_pcd_with_options,
 };
 
 fn over_budget(kind: &ErrorKind) -> bool {
@@ -54,6 +54,27 @@ fn png_bomb_is_refused_from_its_header() {
     assert!(text.contains("6000 × 6000 pixels"), "{text}");
     assert!(text.contains("memory budget"), "{text}");
     assert!(text.contains("--max-memory"), "{text}");
+}
+
+#[test]
+fn the_default_budget_scales_with_the_input_size() {
+    // 800 × 800 pixels from 4 kB: 430 MiB estimated, past the 384 MiB a small file gets,
+    // so refused by default; the full cap, or a large file of the same claim, admits it.
+    let bytes = constant_png(800, 800);
+    assert!(bytes.len() < 16 << 10, "{} bytes", bytes.len());
+    let e = parse_depth_png(&bytes).unwrap_err();
+    assert!(over_budget(&e.kind), "{e}");
+    assert!(e.to_string().contains("800 × 800 pixels"), "{e}");
+    assert!(parse_depth_png_with(&bytes, &Limits::default()).is_ok());
+    assert!(parse_depth_png_with(&bytes, &Limits::for_input_size(2 << 20)).is_ok());
+    // The same through a file read by path.
+    let path = scratch("scaled_800.png");
+    std::fs::write(&path, &bytes).unwrap();
+    let e = polylidar_io::read_depth_png(&path).unwrap_err();
+    assert!(over_budget(&e.kind), "{e}");
+    assert!(e.to_string().contains("scaled_800.png"), "{e}");
+    // A small picture passes by default.
+    assert!(parse_depth_png(&constant_png(640, 480)).is_ok());
 }
 
 #[test]

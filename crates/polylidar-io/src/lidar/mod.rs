@@ -22,9 +22,10 @@ const BATCH_BYTES: u64 = 8 << 20;
 /// # Errors
 /// An [`IoError`] naming the file and what is wrong: the header field that does not fit
 /// the file (by name and byte position), the point records that are truncated or corrupt
-/// (with their LAZ chunk), or more points than the default [`Limits`] allow.
+/// (with their LAZ chunk), or more points than [`Limits::for_path`] allows.
 pub fn read_las(path: impl AsRef<Path>) -> Result<LasCloud, IoError> {
-    read_las_with(path, &Limits::default())
+    let path = path.as_ref();
+    read_las_with(path, &Limits::for_path(path))
 }
 
 /// As [`read_las`], within `limits` (the header's point count times 25 bytes per point
@@ -61,7 +62,7 @@ pub fn read_las_unit(path: impl AsRef<Path>) -> Result<Option<crate::LengthUnit>
 /// # Errors
 /// As [`read_las`], with no file name.
 pub fn parse_las(bytes: &[u8]) -> Result<LasCloud, IoError> {
-    parse_las_with(bytes, &Limits::default())
+    parse_las_with(bytes, &Limits::for_input_size(bytes.len() as u64))
 }
 
 /// As [`parse_las`], within `limits`.

@@ -93,10 +93,11 @@ impl NpyArray {
 /// # Errors
 /// An [`IoError`] naming the file and the problem: bad magic, malformed header dictionary,
 /// unsupported dtype (complex, half, structured, strings), truncated data, trailing bytes,
-/// more values than the default [`Limits`] allow (8 bytes each, and the pipeline's share
+/// more values than [`Limits::for_path`] allows (8 bytes each, and the pipeline's share
 /// per row of the last axis).
 pub fn read_npy(path: impl AsRef<Path>) -> Result<NpyArray, IoError> {
-    read_npy_with(path, &Limits::default())
+    let path = path.as_ref();
+    read_npy_with(path, &Limits::for_path(path))
 }
 
 /// As [`read_npy`], within `limits`.
@@ -113,7 +114,7 @@ pub fn read_npy_with(path: impl AsRef<Path>, limits: &Limits) -> Result<NpyArray
 /// # Errors
 /// As [`read_npy`], with no file name.
 pub fn parse_npy(bytes: &[u8]) -> Result<NpyArray, IoError> {
-    parse_npy_with(bytes, &Limits::default())
+    parse_npy_with(bytes, &Limits::for_input_size(bytes.len() as u64))
 }
 
 /// As [`parse_npy`], within `limits`.

@@ -31,9 +31,10 @@ fn err(kind: ErrorKind) -> IoError {
 /// # Errors
 /// An [`IoError`] naming the file and the problem: unreadable file, malformed header line,
 /// unsupported `DATA` kind, missing `x`/`y`/`z`, truncated or corrupt data, more points
-/// than the default [`Limits`] allow.
+/// than [`Limits::for_path`] allows.
 pub fn read_pcd(path: impl AsRef<Path>) -> Result<PointCloud, IoError> {
-    read_pcd_with(path, &Limits::default())
+    let path = path.as_ref();
+    read_pcd_with(path, &Limits::for_path(path))
 }
 
 /// As [`read_pcd`], within `limits`.
@@ -50,7 +51,7 @@ pub fn read_pcd_with(path: impl AsRef<Path>, limits: &Limits) -> Result<PointClo
 /// # Errors
 /// As [`read_pcd`], with no file name.
 pub fn parse_pcd(bytes: &[u8]) -> Result<PointCloud, IoError> {
-    parse_pcd_with(bytes, &Limits::default())
+    parse_pcd_with(bytes, &Limits::for_input_size(bytes.len() as u64))
 }
 
 /// As [`parse_pcd`], within `limits`.
@@ -193,7 +194,8 @@ impl PcdColumns {
 /// As [`read_pcd`], except that `x`, `y`, `z` are not required; the budget counts 8 bytes
 /// per value and no pipeline share.
 pub fn read_pcd_fields(path: impl AsRef<Path>) -> Result<PcdColumns, IoError> {
-    read_pcd_fields_with(path, &Limits::default())
+    let path = path.as_ref();
+    read_pcd_fields_with(path, &Limits::for_path(path))
 }
 
 /// As [`read_pcd_fields`], within `limits`.
@@ -213,7 +215,7 @@ pub fn read_pcd_fields_with(
 /// # Errors
 /// As [`read_pcd_fields`], with no file name.
 pub fn parse_pcd_fields(bytes: &[u8]) -> Result<PcdColumns, IoError> {
-    parse_pcd_fields_with(bytes, &Limits::default())
+    parse_pcd_fields_with(bytes, &Limits::for_input_size(bytes.len() as u64))
 }
 
 /// Bytes of bookkeeping per column of [`PcdColumns`] (its name, its `Vec`, its decoder

@@ -134,9 +134,11 @@ impl DepthCamera {
     /// Reads a 16-bit depth PNG and back-projects it ([`Self::cloud`]).
     ///
     /// # Errors
-    /// An unreadable PNG, one past the default [`Limits`], and those of [`Self::cloud`].
+    /// An unreadable PNG, one past the default budget of its size ([`Limits::for_path`]),
+    /// and those of [`Self::cloud`].
     pub fn read(&self, depth_png: impl AsRef<Path>) -> Result<OrganizedPointCloud, PolylidarError> {
-        self.read_with(depth_png, &Limits::default())
+        let depth_png = depth_png.as_ref();
+        self.read_with(depth_png, &Limits::for_path(depth_png))
     }
 
     /// [`Self::read`] within `limits`.
