@@ -1,6 +1,6 @@
 //! The subcommands: load, configure, run, write.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use polylidar::output::{PolygonSet, feature_collection};
 use polylidar::{Extraction, Polylidar, PolylidarError};
@@ -325,16 +325,4 @@ pub fn record_inputs(outputs: &mut Outputs, args: &InputArgs) {
 /// One pipeline run on the input ([`Polylidar::extract`]).
 pub fn run_once(polylidar: &Polylidar, input: &Input) -> Result<Extraction, PolylidarError> {
     polylidar.extract(input)
-}
-
-/// Writes `bytes` to `path` atomically, creating its directory
-/// ([`polylidar::io::write_file`]). A command with several outputs stages them in
-/// [`Outputs`] instead, so that none is replaced unless all are written.
-pub fn write(path: &Path, bytes: &[u8]) -> Result<(), CliError> {
-    Ok(polylidar::io::write_file(path, bytes)?)
-}
-
-/// Creates the directory `path` will be written into ([`polylidar::io::create_parent`]).
-pub fn create_parent(path: &Path) -> Result<(), CliError> {
-    Ok(polylidar::io::create_parent(path)?)
 }

@@ -13,12 +13,14 @@ use polylidar::output::{PolygonSet, feature_collection};
 use polylidar::stream::{StreamOptions, StreamedFrame};
 use polylidar::{Extraction, OrganizedPointCloud, Polylidar, PolylidarError};
 use polylidar_io::ColorImage;
+use polylidar_io::atomic::StagedFile;
 use serde_json::{Map, Value, json};
 
 use crate::args::{CameraArgs, InputArgs};
 use crate::input::{camera, read_with_camera};
+use crate::outputs::Outputs;
 use crate::params;
-use crate::run::{CliError, Outcome, create_parent, write};
+use crate::run::{CliError, Outcome, record_inputs};
 
 /// Arguments of `polylidar stream`.
 #[derive(Debug, Args)]
@@ -67,9 +69,16 @@ pub struct StreamArgs {
 
 /// Runs `polylidar stream`.
 ///
+/// The outputs are checked before the first frame is read (as [`Outputs::plan`]: writable,
+/// no output the same file as another or as a frame, a colour picture, `--config` or
+/// `--intrinsics`), written to temporary files beside their targets as the frames come,
+/// and renamed into place only when every frame has run: a failure leaves the previous
+/// files as they were and no temporary file behind.
+///
 /// # Errors
 /// No frames, unreadable first frame, bad parameters, unwritable output; frames that fail
-/// are reported on stderr as they come and make the command fail at the end.
+/// are reported on stderr as they come and make the command fail at the end, with nothing
+/// written.
 pub fn stream(args: StreamArgs) -> Result<Outcome, CliError> {
     if args.input.demo.is_some() {
         return Err(unsupported("stream runs over frames in files, not --demo"));
@@ -94,6 +103,18 @@ pub fn stream(args: StreamArgs) -> Result<Outcome, CliError> {
         }
         None => vec![None; frames.len()],
     };
+    let mut outputs = Outputs::new();
+    record_inputs(&mut outputs, &args.input);
+    for path in frames.iter().chain(colors.iter().flatten()) {
+        outputs.input("a frame", path);
+        if let Ok(csv) = polylidar_io::metadata_path_for(path) {
+            outputs.input("a frame's metadata CSV", &csv);
+        }
+    }
+    if let Some(path) = args.camera.intrinsics.as_deref().map(Path::new) {
+        outputs.input("the --intrinsics file", path);
+    }
+    let target = Target::plan(&args, &frames, &mut outputs)?;
     let camera = camera(&args.camera)?;
     let max_memory = args.input.max_memory;
     let stride = args.input.stride as usize;
@@ -105,7 +126,7 @@ pub fn stream(args: StreamArgs) -> Result<Outcome, CliError> {
     } else {
         PolygonSet::Extracted
     };
-    let mut out = Output::new(&args)?;
+    let mut out = Output::open(target, outputs)?;
     let total = frames.len();
     let sources: Vec<(String, (PathBuf, Option<PathBuf>))> = frames
         .into_iter()
@@ -151,14 +172,19 @@ pub fn stream(args: StreamArgs) -> Result<Outcome, CliError> {
     if progress {
         eprintln!();
     }
-    out.finish()?;
+    if failed == 0 {
+        out.commit()?;
+    }
     if args.json {
         println!("{}", json_report(&records));
     } else {
         eprintln!("{}", summary_text(&records));
     }
     if failed > 0 {
-        return Err(unsupported(&format!("{failed} of {total} frames failed")));
+        return Err(unsupported(&format!(
+            "{failed} of {total} frames failed; nothing was written (the outputs are \
+             written only when every frame runs)"
+        )));
     }
     Ok(Outcome::Done)
 }
@@ -318,31 +344,87 @@ fn matches(pattern: &[char], name: &[char]) -> bool {
     }
 }
 
-/// Where the frames' polygons go.
-enum Output {
-    /// GeoJSON lines, written as the frames come.
-    Lines(PathBuf, std::io::BufWriter<std::fs::File>),
-    /// One file per frame in a folder.
-    Folder(PathBuf),
+/// Where the frames' polygons go, checked before the first frame is read.
+enum Target {
+    /// GeoJSON lines in one file (`-o`).
+    Lines(PathBuf),
+    /// One file per frame in a folder (`--out-dir`): the flag naming each frame's output
+    /// in errors, by the frame's name.
+    Folder(PathBuf, std::collections::HashMap<String, String>),
+}
+
+impl Target {
+    /// Checks the output file, or each frame's file in the output folder, with `outputs`.
+    fn plan(
+        args: &StreamArgs,
+        frames: &[PathBuf],
+        outputs: &mut Outputs,
+    ) -> Result<Self, CliError> {
+        match (&args.output, &args.out_dir) {
+            (Some(path), _) => {
+                outputs.plan("-o", path)?;
+                Ok(Self::Lines(path.clone()))
+            }
+            (None, Some(dir)) => {
+                let mut flags = std::collections::HashMap::new();
+                for frame in frames {
+                    let name = frame.display().to_string();
+                    let flag = format!("--out-dir's file for {name}");
+                    outputs.plan(&flag, &frame_file(dir, &name))?;
+                    flags.insert(name, flag);
+                }
+                Ok(Self::Folder(dir.clone(), flags))
+            }
+            (None, None) => Err(unsupported("stream needs -o FILE or --out-dir DIR")),
+        }
+    }
+}
+
+/// The output file of the frame `name` in the folder `dir`: `depth_00004.png` →
+/// `dir/depth_00004.geojson`.
+fn frame_file(dir: &Path, name: &str) -> PathBuf {
+    let stem = Path::new(name)
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "frame".to_owned());
+    dir.join(format!("{stem}.geojson"))
+}
+
+/// The outputs being written: nothing replaces a file before [`Output::commit`], and
+/// dropping an `Output` removes its temporary files.
+struct Output {
+    /// The GeoJSON lines' target and its temporary file, when writing `-o`.
+    lines: Option<(PathBuf, StagedFile, std::io::BufWriter<std::fs::File>)>,
+    /// The folder's per-frame flags, when writing `--out-dir`.
+    folder: Option<(PathBuf, std::collections::HashMap<String, String>)>,
+    /// The per-frame files staged so far.
+    outputs: Outputs,
 }
 
 impl Output {
-    fn new(args: &StreamArgs) -> Result<Self, CliError> {
-        let cannot = |path: &Path, e: std::io::Error| CliError::Write {
-            path: path.to_path_buf(),
-            message: e.to_string(),
-        };
-        match (&args.output, &args.out_dir) {
-            (Some(path), _) => {
-                create_parent(path)?;
-                let file = std::fs::File::create(path).map_err(|e| cannot(path, e))?;
-                Ok(Self::Lines(path.clone(), std::io::BufWriter::new(file)))
+    fn open(target: Target, outputs: Outputs) -> Result<Self, CliError> {
+        match target {
+            Target::Lines(path) => {
+                let cannot = |e: std::io::Error| CliError::Write {
+                    path: path.clone(),
+                    message: e.to_string(),
+                };
+                if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+                    std::fs::create_dir_all(dir).map_err(cannot)?;
+                }
+                let (staged, file) = StagedFile::create(&path).map_err(cannot)?;
+                let file = std::io::BufWriter::new(file);
+                Ok(Self {
+                    lines: Some((path, staged, file)),
+                    folder: None,
+                    outputs,
+                })
             }
-            (None, Some(dir)) => {
-                std::fs::create_dir_all(dir).map_err(|e| cannot(dir, e))?;
-                Ok(Self::Folder(dir.clone()))
-            }
-            (None, None) => Err(unsupported("stream needs -o FILE or --out-dir DIR")),
+            Target::Folder(dir, flags) => Ok(Self {
+                lines: None,
+                folder: Some((dir, flags)),
+                outputs,
+            }),
         }
     }
 
@@ -355,28 +437,35 @@ impl Output {
         stride: usize,
     ) -> Result<(), CliError> {
         let text = frame_collection(name, extraction, set, colors, stride);
-        match self {
-            Self::Lines(path, file) => writeln!(file, "{text}").map_err(|e| CliError::Write {
+        if let Some((path, _, file)) = &mut self.lines {
+            writeln!(file, "{text}").map_err(|e| CliError::Write {
                 path: path.clone(),
-                message: e.to_string(),
-            }),
-            Self::Folder(dir) => {
-                let stem = Path::new(name)
-                    .file_stem()
-                    .map(|s| s.to_string_lossy().into_owned())
-                    .unwrap_or_else(|| "frame".to_owned());
-                write(&dir.join(format!("{stem}.geojson")), text.as_bytes())
-            }
-        }
-    }
-
-    fn finish(self) -> Result<(), CliError> {
-        if let Self::Lines(path, mut file) = self {
-            file.flush().map_err(|e| CliError::Write {
-                path,
                 message: e.to_string(),
             })?;
         }
+        if let Some((dir, flags)) = &self.folder {
+            let flag = flags
+                .get(name)
+                .cloned()
+                .unwrap_or_else(|| format!("--out-dir's file for {name}"));
+            self.outputs
+                .stage(&flag, &frame_file(dir, name), text.as_bytes())?;
+        }
+        Ok(())
+    }
+
+    /// Renames every output into place.
+    fn commit(self) -> Result<(), CliError> {
+        if let Some((path, staged, file)) = self.lines {
+            let cannot = |e: std::io::Error| CliError::Write {
+                path: path.clone(),
+                message: e.to_string(),
+            };
+            let file = file.into_inner().map_err(|e| cannot(e.into_error()))?;
+            drop(file);
+            staged.commit().map_err(cannot)?;
+        }
+        self.outputs.commit()?;
         Ok(())
     }
 }
