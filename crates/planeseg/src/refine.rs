@@ -45,6 +45,7 @@
 use halfedge_mesh::{HalfEdgeMesh, NO_TWIN};
 use rayon::prelude::*;
 
+use crate::prefetch::prefetch;
 use crate::vec3::{Vec3, add, corners, cross, dot, scale, sub, unit};
 use crate::{NO_GROUP, SegmentationConfig};
 
@@ -473,7 +474,8 @@ fn absorb(
             .par_chunks(ABSORB_CHUNK)
             .map(|chunk| {
                 let mut found = Vec::new();
-                for &t in chunk {
+                for (i, &t) in chunk.iter().enumerate() {
+                    prefetch_ahead(m, labels, chunk, i);
                     let s = labels[t as usize];
                     let Some(plane) = planes[s as usize] else {
                         continue;
@@ -683,6 +685,41 @@ fn merge(
 
 /// Triangles of a breadth-first level per task in [`absorb`].
 const ABSORB_CHUNK: usize = 1024;
+
+/// How many triangles of a level ahead of the one [`absorb`] looks at it asks for the
+/// neighbours' labels, normals and corner indices ([`prefetch_ahead`]).
+const ABSORB_AHEAD: usize = 4;
+
+/// Cache hints for the triangles of `level` that [`absorb`] looks at after the `i`-th, in
+/// three stages of the chain of loads it makes: the half-edge twins of the triangle
+/// `2 · ABSORB_AHEAD` ahead, the labels, normals and corner indices of the neighbours of
+/// the one `ABSORB_AHEAD` ahead, and the corners of the free neighbours of the one
+/// `ABSORB_AHEAD / 2` ahead. The loop is bound by memory latency: a level's triangles lie
+/// along the fronts of all segments, far apart in memory.
+#[inline(always)]
+fn prefetch_ahead(m: &Mesh<'_>, labels: &[u32], level: &[u32], i: usize) {
+    if let Some(&far) = level.get(i + 2 * ABSORB_AHEAD) {
+        prefetch(&m.twins[3 * far as usize]);
+    }
+    if let Some(&near) = level.get(i + ABSORB_AHEAD) {
+        for u in m.neighbours(near) {
+            if u != NONE {
+                prefetch(&labels[u as usize]);
+                prefetch(&m.normals[u as usize]);
+                prefetch(&m.triangles[u as usize]);
+            }
+        }
+    }
+    if let Some(&close) = level.get(i + ABSORB_AHEAD / 2) {
+        for u in m.neighbours(close) {
+            if u != NONE && labels[u as usize] == NONE {
+                for v in m.triangles[u as usize] {
+                    prefetch(&m.vertices[v as usize]);
+                }
+            }
+        }
+    }
+}
 
 /// Triangles per task of [`Mesh::sums_of`].
 const SUMS_CHUNK: usize = 8192;
