@@ -99,13 +99,11 @@ impl Chart {
     /// # Errors
     /// Encoding or file-system errors.
     pub fn save(&self, path: &Path) -> Result<()> {
-        let pixmap = self.draw()?;
-        if let Some(dir) = path.parent() {
-            std::fs::create_dir_all(dir)?;
-        }
-        pixmap
-            .save_png(path)
-            .map_err(|e| msg(format!("writing {}: {e}", path.display())))
+        let png = self
+            .draw()?
+            .encode_png()
+            .map_err(|e| msg(format!("encoding {}: {e}", path.display())))?;
+        crate::report::write_bytes(path, &png)
     }
 
     fn draw(&self) -> Result<Pixmap> {

@@ -92,7 +92,7 @@ pub fn city(args: &CityArgs) -> Result<()> {
             .collect::<Vec<_>>()
             .join(", ")
     );
-    std::fs::write(args.out.join("city.json"), manifest)?;
+    crate::report::write(&args.out.join("city.json"), &manifest)?;
     eprintln!(
         "city: {total} returns, {:.0} m a side, {} tiles of {} m, {} roof planes → {} in {:.1} s",
         city.side(),

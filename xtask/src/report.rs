@@ -135,17 +135,27 @@ pub fn header(title: &str, info: &RunInfo<'_>) -> String {
     s
 }
 
-/// Writes `text` to `path`, creating folders.
+/// Writes `bytes` to `path` atomically (a temporary file beside it, renamed into place:
+/// an interrupted or failed run leaves the previous table or picture whole), creating
+/// folders.
+///
+/// # Errors
+/// File-system errors, with the path.
+pub fn write_bytes(path: &Path, bytes: &[u8]) -> Result<()> {
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir)
+            .map_err(|e| crate::error::msg(format!("creating {}: {e}", dir.display())))?;
+    }
+    polylidar_io::atomic::write_atomic(path, bytes)
+        .map_err(|e| crate::error::msg(format!("writing {}: {e}", path.display())))
+}
+
+/// Writes `text` to `path` atomically, creating folders ([`write_bytes`]).
 ///
 /// # Errors
 /// File-system errors, with the path.
 pub fn write(path: &Path, text: &str) -> Result<()> {
-    if let Some(dir) = path.parent() {
-        std::fs::create_dir_all(dir)
-            .map_err(|e| crate::error::msg(format!("creating {}: {e}", dir.display())))?;
-    }
-    std::fs::write(path, text)
-        .map_err(|e| crate::error::msg(format!("writing {}: {e}", path.display())))
+    write_bytes(path, text.as_bytes())
 }
 
 /// "1.23 %" with two decimals.
