@@ -333,18 +333,28 @@ fn one_ring(triangles: &[[u32; 3]], offsets: &[u32], cells: &[u32]) -> Vec<[u32;
         .iter()
         .enumerate()
         .map(|(i, t)| {
-            let mut ring: Vec<u32> = t
-                .iter()
-                .flat_map(|&v| {
-                    &cells[offsets[v as usize] as usize..offsets[v as usize + 1] as usize]
-                })
-                .copied()
-                .filter(|&c| c != i as u32)
-                .collect();
+            // At most six cells meet at a vertex: 18 incident cells, the cell itself
+            // three times among them.
+            let mut ring = [NO_NEIGHBOR; 18];
+            let mut len = 0;
+            for &v in t {
+                for &c in &cells[offsets[v as usize] as usize..offsets[v as usize + 1] as usize] {
+                    if c != i as u32 && len < ring.len() {
+                        ring[len] = c;
+                        len += 1;
+                    }
+                }
+            }
+            let ring = &mut ring[..len];
             ring.sort_unstable();
-            ring.dedup();
             let mut row = [NO_NEIGHBOR; 12];
-            row[..ring.len()].copy_from_slice(&ring);
+            let mut kept = 0;
+            for (k, &c) in ring.iter().enumerate() {
+                if (k == 0 || c != ring[k - 1]) && kept < row.len() {
+                    row[kept] = c;
+                    kept += 1;
+                }
+            }
             row
         })
         .collect()
@@ -420,6 +430,23 @@ mod tests {
             }
             if level > 0 {
                 assert_eq!(eleven, 60);
+            }
+        }
+    }
+
+    #[test]
+    fn neighbor_matrix_lists_exactly_the_cells_sharing_a_vertex() {
+        for level in 0..=2 {
+            let ico = Icosahedron::new(level).unwrap();
+            let tris = ico.triangles();
+            for (i, row) in ico.neighbors().iter().enumerate() {
+                let brute: Vec<u32> = (0..tris.len() as u32)
+                    .filter(|&c| {
+                        c != i as u32 && tris[c as usize].iter().any(|v| tris[i].contains(v))
+                    })
+                    .collect();
+                let listed: Vec<u32> = row.iter().copied().filter(|&c| c != NO_NEIGHBOR).collect();
+                assert_eq!(listed, brute, "level {level} cell {i}");
             }
         }
     }

@@ -190,7 +190,8 @@ fn adaptive_search_builds_the_table_once_it_pays_and_bins_alike() {
     assert!(!adaptive.uses_table() && table.uses_table() && !learned.uses_table());
     for call in 0..3 {
         for ga in [&mut adaptive, &mut table, &mut learned] {
-            ga.integrate(&normals, 1.0, Parallelism::Sequential).unwrap();
+            ga.integrate(&normals, 1.0, Parallelism::Sequential)
+                .unwrap();
         }
         // Calls 0 and 1 integrate half the threshold and one more each: the second reaches it
         // and builds the table first.
@@ -205,6 +206,8 @@ fn adaptive_search_builds_the_table_once_it_pays_and_bins_alike() {
     assert!(once.uses_table());
     // A sample counts as the normals it keeps.
     let mut sampled = GaussianAccumulator::new(level).unwrap();
-    sampled.integrate(&many, 0.5, Parallelism::Sequential).unwrap();
+    sampled
+        .integrate(&many, 0.5, Parallelism::Sequential)
+        .unwrap();
     assert!(!sampled.uses_table());
 }
