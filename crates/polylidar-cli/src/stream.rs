@@ -156,7 +156,13 @@ pub fn stream(args: StreamArgs) -> Result<Outcome, CliError> {
                 if progress {
                     eprintln!();
                 }
-                eprintln!("error: frame {}: {e}", frame.name);
+                // Input errors already begin with the frame's path.
+                let text = e.to_string();
+                if text.starts_with(&frame.name) {
+                    eprintln!("error: frame {text}");
+                } else {
+                    eprintln!("error: frame {}: {text}", frame.name);
+                }
             }
         }
         if progress {

@@ -38,8 +38,8 @@ pub const BUDGET_FLOOR: u64 = 384 << 20;
 
 /// Budget bytes granted per byte of input on top of [`BUDGET_FLOOR`] under
 /// [`Limits::for_input_size`]. Of the shared fixtures, only compressed files claim more
-/// than this per byte of the file (depth PNGs 1,400–2,300, the LAZ 130), and those stay
-/// within the floor; uncompressed PCD, NPY and KITTI files need 25–60. A file of 1 MiB
+/// than this per byte of the file (depth PNGs 1,300–2,300, the LAZ 130), and those stay
+/// within the floor; uncompressed PCD, NPY, LAS and KITTI files claim 21–59. A file of 1 MiB
 /// gets at most 448 MiB, so peak RSS on any input of at most 1 MB stays under 512 MB
 /// (`docs/bench/hardening.md`).
 pub const BUDGET_PER_INPUT_BYTE: u64 = 64;
@@ -48,10 +48,10 @@ pub const BUDGET_PER_INPUT_BYTE: u64 = 64;
 /// point (or organized pixel) as `f64` and `f32` copies, its share of the half-edge mesh
 /// (about two triangles of three half-edges), normals, smoothing buffers, labels and the
 /// Delaunay or right-cut working memory, the 3D path's normals and neighbour lists. Peak
-/// RSS of `polylidar extract` on the shared fixtures, less the run's fixed 16–35 MB, is
-/// 360–610 bytes per point for organized clouds and depth images and up to 810 for the
-/// unorganized 3D path (`docs/bench/hardening.md`); the big inputs that a budget decides
-/// on are organized, so 700.
+/// RSS of `polylidar extract` on the shared fixtures, less the 16 MiB of a run on a
+/// thousand points, is 530–700 bytes per point for organized clouds and depth images,
+/// 260–570 for KITTI and LAZ scans and 810 for the unorganized 3D path
+/// (`docs/bench/hardening.md`); the big inputs that a budget decides on are organized.
 pub const PIPELINE_BYTES_PER_POINT: u64 = 700;
 
 /// The memory budget of a read.
