@@ -53,7 +53,7 @@ pub fn format_of(path: impl AsRef<Path>) -> Option<Format> {
 /// Reads any supported input, dispatching on the extension: `.csv`/`.txt`/`.xyz` (2 or 3
 /// columns), `.npy` (N×2, N×3, H×W×3), `.pcd`, `.ply`, `.obj`, `.las`/`.laz`, `.png`
 /// (16-bit depth; intrinsics from the metadata CSV found by [`metadata_path_for`]), `.bin`
-/// (KITTI Velodyne frame, [`read_kitti_bin`]).
+/// (KITTI Velodyne frame, [`read_kitti_bin`](crate::read_kitti_bin)).
 ///
 /// Points of an unorganized PCD cloud with a NaN or infinite coordinate (PCL's marker of
 /// an invalid point) are skipped; [`read_input_with`] says how many.
