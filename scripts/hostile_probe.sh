@@ -172,6 +172,26 @@ stream += b"\x00\x00" * left
 write("lzf.pcd", f"VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH {points}\nHEIGHT 1\n"
       f"POINTS {points}\nDATA binary_compressed\n".encode() + struct.pack("<II", len(stream), size) + bytes(stream))
 run("bombs", "lzf.pcd", ["extract", "lzf.pcd"], "error", "lzf.pcd")
+# 300,000 copies of one point with its normal in a 80 kB LZF block (within the budget:
+# 217 MB estimated): the pipeline must answer within a minute, not in quadratic time.
+same = 300_000
+block = bytearray()
+for value in (1.0, 2.0, 3.0, 0.0, 0.0, 1.0):
+    column = same * 4
+    block += bytes([3]) + struct.pack("<f", value)
+    left = column - 4
+    block += bytes([7 << 5, 255, 3]) * (left // 264)
+    left %= 264
+    while left >= 3:
+        n = min(left, 8)
+        block += bytes([(n - 2) << 5, 3])
+        left -= n
+    if left:
+        block += bytes([left - 1]) + struct.pack("<f", value)[4 - left:]
+write("same.pcd", f"VERSION 0.7\nFIELDS x y z normal_x normal_y normal_z\nSIZE 4 4 4 4 4 4\nTYPE F F F F F F\n"
+      f"COUNT 1 1 1 1 1 1\nWIDTH {same}\nHEIGHT 1\nPOINTS {same}\nDATA binary_compressed\n".encode()
+      + struct.pack("<II", len(block), same * 24) + bytes(block))
+run("bombs", "LZF PCD of 300000 identical points", ["extract", "same.pcd"], "either", "same.pcd")
 for count in ["100000000 1 1", "1 1 4294967295", "1 1 -3"]:
     write("count.pcd", f"FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT {count}\nWIDTH 1\nHEIGHT 1\nDATA ascii\n")
     run("bombs", f"COUNT {count}", ["extract", "count.pcd"], "error", "count.pcd")
