@@ -327,6 +327,87 @@ impl TileGrid {
 
     /// The parts of the result of a boolean operation, snapped onto the grid lines (see
     /// [`Self::snap`]) with a distance of 10⁻⁷ of the result's extent.
+    /// The holes of a piece with exterior `exterior` that a union with the pieces across
+    /// its seams may change (first), and those it cannot (second): a hole is set apart when
+    /// its bounding box, grown by a margin well above the unions' rounding, reaches no grid
+    /// line, no exterior edge's box and no box of a hole that goes through the union (the
+    /// union rounds the rings it handles, which must not move onto a ring left out of it).
+    fn holes_near_seams(
+        &self,
+        exterior: &LineString<f64>,
+        holes: Vec<LineString<f64>>,
+    ) -> (Vec<LineString<f64>>, Vec<LineString<f64>>) {
+        let margin = 1e-6 * self.size;
+        let grown = |r: Rect<f64>| {
+            Rect::new(
+                Coord {
+                    x: r.min().x - margin,
+                    y: r.min().y - margin,
+                },
+                Coord {
+                    x: r.max().x + margin,
+                    y: r.max().y + margin,
+                },
+            )
+        };
+        let overlap = |a: &Rect<f64>, b: &Rect<f64>| {
+            a.min().x <= b.max().x
+                && b.min().x <= a.max().x
+                && a.min().y <= b.max().y
+                && b.min().y <= a.max().y
+        };
+        let boxes: Vec<Option<Rect<f64>>> = holes
+            .iter()
+            .map(|h| geo::BoundingRect::bounding_rect(h).map(grown))
+            .collect();
+        let edges: Vec<Rect<f64>> = exterior
+            .lines()
+            .map(|l| Rect::new(l.start, l.end))
+            .collect();
+        let mut near: Vec<bool> = boxes
+            .iter()
+            .map(|b| {
+                b.is_none_or(|b| self.reaches_a_line(&b) || edges.iter().any(|e| overlap(&b, e)))
+            })
+            .collect();
+        // Holes touching a hole that goes through the union go through it too.
+        loop {
+            let mut changed = false;
+            for i in 0..holes.len() {
+                if near[i] {
+                    continue;
+                }
+                let Some(bi) = boxes[i] else { continue };
+                if (0..holes.len()).any(|j| near[j] && boxes[j].is_some_and(|bj| overlap(&bi, &bj)))
+                {
+                    near[i] = true;
+                    changed = true;
+                }
+            }
+            if !changed {
+                break;
+            }
+        }
+        let (mut inside, mut apart) = (Vec::new(), Vec::new());
+        for (hole, near) in holes.into_iter().zip(near) {
+            if near {
+                inside.push(hole)
+            } else {
+                apart.push(hole)
+            }
+        }
+        (inside, apart)
+    }
+
+    /// Whether `r` reaches a grid line.
+    fn reaches_a_line(&self, r: &Rect<f64>) -> bool {
+        let crosses = |lo: f64, hi: f64, origin: f64| {
+            ((lo - origin) / self.size).ceil() <= ((hi - origin) / self.size).floor()
+        };
+        crosses(r.min().x, r.max().x, self.origin[0])
+            || crosses(r.min().y, r.max().y, self.origin[1])
+    }
+
     fn snap_parts(&self, parts: MultiPolygon<f64>) -> Vec<Polygon<f64>> {
         let eps = geo::BoundingRect::bounding_rect(&parts)
             .map_or(0.0, |r| 1e-7 * (r.width() + r.height()));
@@ -716,15 +797,26 @@ fn unite<'a>(grid: &TileGrid, pieces: impl Iterator<Item = &'a TilePolygon>) -> 
         pieces[0].anchor()
     };
     let offset = -(normal[0] * anchor[0] + normal[1] * anchor[1] + normal[2] * anchor[2]);
+    // The pieces meet along seams only (each is clipped to its tile's core), so a hole that
+    // reaches no grid line comes through the union unchanged: it is set aside and put back
+    // into the part that holds it, and the unions handle the outlines near the seams only
+    // (a city's ground has hundreds of holes, most of them far from any seam).
+    let mut set_aside: Vec<LineString<f64>> = Vec::new();
+    let mut footprints = pieces.iter().map(|p| {
+        let (exterior, interiors) = p.footprint.clone().into_inner();
+        let (near, far) = grid.holes_near_seams(&exterior, interiors);
+        set_aside.extend(far);
+        Polygon::new(exterior, near)
+    });
     // Pairwise unions: `geo::unary_union` (one fill rule for all rings, taken from the
     // first ring's winding) lost holes of the Autzen paved area where these keep them.
     // Each union rounds to its own integer grid: snapping after each keeps the seams of
     // the pieces still to come exact.
-    let first = MultiPolygon::new(vec![pieces[0].footprint.clone()]);
-    let union = pieces[1..].iter().fold(first, |acc, p| {
-        MultiPolygon::new(grid.snap_parts(acc.union(&p.footprint)))
+    let first = footprints.next().map_or_else(Vec::new, |f| vec![f]);
+    let union = footprints.fold(MultiPolygon::new(first), |acc, f| {
+        MultiPolygon::new(grid.snap_parts(acc.union(&f)))
     });
-    union
+    put_back(union.0, set_aside)
         .into_iter()
         .filter_map(|part| {
             let area = part.unsigned_area();
@@ -737,6 +829,37 @@ fn unite<'a>(grid: &TileGrid, pieces: impl Iterator<Item = &'a TilePolygon>) -> 
             })
         })
         .collect()
+}
+
+/// `parts` (disjoint polygons) with each of `holes` added to the part that holds it: the
+/// smallest part whose exterior has a vertex of the hole strictly inside (a part inside
+/// another's courtyard lies in that part's hole, so the smallest is the right one).
+fn put_back(mut parts: Vec<Polygon<f64>>, holes: Vec<LineString<f64>>) -> Vec<Polygon<f64>> {
+    use geo::coordinate_position::{CoordPos, coord_pos_relative_to_ring};
+    if holes.is_empty() {
+        return parts;
+    }
+    let areas: Vec<f64> = parts
+        .iter()
+        .map(|p| p.exterior().signed_area().abs())
+        .collect();
+    let mut extra: Vec<Vec<LineString<f64>>> = vec![Vec::new(); parts.len()];
+    for hole in holes {
+        let holder = hole.coords().find_map(|&c| {
+            (0..parts.len())
+                .filter(|&i| coord_pos_relative_to_ring(c, parts[i].exterior()) == CoordPos::Inside)
+                .min_by(|&a, &b| areas[a].total_cmp(&areas[b]))
+        });
+        if let Some(i) = holder {
+            extra[i].push(hole);
+        }
+    }
+    for (part, holes) in parts.iter_mut().zip(extra) {
+        for hole in holes {
+            part.interiors_push(hole);
+        }
+    }
+    parts
 }
 
 /// Disjoint sets of piece indices (path halving, union by index).

@@ -273,3 +273,72 @@ fn bytes_round_trip_and_reject_garbage() {
         set.polygons.len()
     );
 }
+
+/// A flat piece of `tile` with exterior `[x0, x1] × [0, 10]` and `holes`.
+fn flat_piece(tile: TileId, x0: f64, x1: f64, holes: Vec<LineString<f64>>) -> TilePolygon {
+    let exterior = LineString::from(vec![
+        (x0, 0.0),
+        (x1, 0.0),
+        (x1, 10.0),
+        (x0, 10.0),
+        (x0, 0.0),
+    ]);
+    let footprint = Polygon::new(exterior, holes);
+    TilePolygon {
+        area: footprint.unsigned_area(),
+        footprint,
+        normal: [0.0, 0.0, 1.0],
+        offset: 0.0,
+        tiles: vec![tile],
+    }
+}
+
+#[test]
+fn holes_away_from_the_seams_come_through_a_merge_unchanged() {
+    let square = |x: f64, y: f64, s: f64| {
+        LineString::from(vec![(x, y), (x + s, y), (x + s, y + s), (x, y + s), (x, y)])
+    };
+    // Left: a hole far from everything (set apart), one touching the exterior at a point
+    // (it goes through the union) and one touching that one (so it does too). Right: a hole
+    // on nothing but its own tile, and one whose box reaches the seam x = 10.
+    let touching = LineString::from(vec![(5.0, 0.0), (6.0, 1.0), (4.0, 1.0), (5.0, 0.0)]);
+    let chained = LineString::from(vec![(6.0, 1.0), (7.0, 2.0), (6.0, 2.0), (6.0, 1.0)]);
+    let left_holes = vec![square(2.0, 5.0, 2.0), touching, chained];
+    let right_holes = vec![square(15.0, 5.0, 2.0), square(10.5, 2.0, 1.0)];
+    let grid = TileGrid::new([0.0, 0.0], 10.0, 1.0, 2, 1).unwrap();
+    let (left, right) = (TileId { col: 0, row: 0 }, TileId { col: 1, row: 0 });
+    let sets = vec![
+        TileSet {
+            grid,
+            cover: vec![left],
+            polygons: vec![flat_piece(left, 0.0, 10.0, left_holes)],
+        },
+        TileSet {
+            grid,
+            cover: vec![right],
+            polygons: vec![flat_piece(right, 10.0, 20.0, right_holes)],
+        },
+    ];
+    let expected = sets
+        .iter()
+        .flat_map(|s| s.polygons.iter())
+        .map(|p| p.area)
+        .sum::<f64>();
+    let merged = merge(sets, &MergeTolerance::for_config(&config())).unwrap();
+    assert_eq!(merged.polygons.len(), 1);
+    let p = &merged.polygons[0];
+    assert!(
+        p.footprint.is_valid(),
+        "{:?}",
+        p.footprint.validation_errors()
+    );
+    assert_eq!(p.footprint.interiors().len(), 5);
+    assert!((p.area - expected).abs() < 1e-9, "{} vs {expected}", p.area);
+    assert!((p.footprint.unsigned_area() - expected).abs() < 1e-9);
+    for hole in [square(2.0, 5.0, 2.0), square(15.0, 5.0, 2.0)] {
+        assert!(
+            p.footprint.interiors().contains(&hole),
+            "{hole:?} unchanged"
+        );
+    }
+}
