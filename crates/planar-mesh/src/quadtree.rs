@@ -40,7 +40,8 @@ pub(crate) struct Quadtree {
     pub vertices: Vec<u64>,
 }
 
-/// [`auto_depth`]: the finest cell is at most this many median boundary edges.
+/// [`Depth::Auto`](crate::Depth::Auto): the finest cell is at most this many median boundary
+/// edges.
 pub const AUTO_CELL_EDGES: f64 = 4.0;
 
 /// The lattice key of `(i, j)`.

@@ -34,8 +34,9 @@ use crate::vec3::{add, dot, normalize, scale};
 /// Largest [`DepthModel::edge_band`] (pixels).
 pub const MAX_EDGE_BAND: u32 = 64;
 
-/// The depth errors of a triangulating RGB-D sensor; see the [module docs](self) for the
-/// physics and sources. Lengths in metres, angles in degrees, pixels of the disparity image.
+/// The depth errors of a triangulating RGB-D sensor (the physics and sources are set out at
+/// the top of `src/depth.rs`). Lengths in metres, angles in degrees, pixels of the disparity
+/// image.
 ///
 /// Per pixel, in this order: the ray hits the nearest face at depth `z` (along the optical
 /// axis); the pixel is dropped if it lies in a baseline shadow ([`DepthModel::shadows`]),
