@@ -852,7 +852,7 @@ pub const SMALL_PIECE_FLOOR: f64 = 0.25;
 /// an angle do not, their common plane fits far worse.
 pub const ADJACENT_FLOOR: f64 = 0.5;
 
-/// As [`ADJACENT_FLOOR`], for segments that no edge connects ([`coplanar`]): an eighth of
+/// As [`ADJACENT_FLOOR`], for segments that no edge connects (`coplanar`): an eighth of
 /// `z_thresh`, as two separate surfaces need more evidence to be one plane.
 pub const COPLANAR_FLOOR: f64 = 0.125;
 

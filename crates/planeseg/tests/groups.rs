@@ -1,4 +1,5 @@
 //! Group assignment against a brute-force scan over all dominant normals.
+#![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
 
 use halfedge_mesh::HalfEdgeMesh;
 use planeseg::{NO_GROUP, SegmentationConfig, assign_groups};

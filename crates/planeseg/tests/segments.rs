@@ -1,5 +1,6 @@
 //! Segmentation against a serial brute-force oracle, on scenes with known planes, with
 //! many dominant normals, at several thread counts, and with bad input.
+#![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
 
 use halfedge_mesh::{HalfEdgeMesh, NO_TWIN};
 use planeseg::{
