@@ -287,7 +287,8 @@ fn voxel_downsampling_keeps_the_planes_and_labels_every_point() {
 }
 
 /// The real fragment of a living room (with normals) and Autzen (airborne, in feet): the
-/// 3D path finds planes facing several directions.
+/// 3D path finds planes facing several directions (the file normals need feature `io`).
+#[cfg(feature = "io")]
 #[test]
 fn real_clouds_give_planes_in_several_directions() {
     let count_directions = |e: &Extraction| {
