@@ -9,9 +9,12 @@
 #    environment under the target folder and runs its pytest suite (.ci/python-tests.sh);
 #    when Python, venv or pip cannot be set up it prints a note and skips them (under
 #    CI=true that is a failure);
-# 4. prints how many tests skipped and why (from target/test-skips.log, written by the
-#    test-fixtures crate and the pytest suite), then one line adding up cargo's and
-#    pytest's results ("tests: 812 passed, 0 failed, 3 ignored"; pytest's skips count as
+# 4. runs the static checks of .ci/checks.sh, each a visible step with its own ok/FAILED
+#    line: rustfmt, clippy with warnings denied, rustdoc with warnings denied, a build of the
+#    benches, the crates without default features, the declared MSRV;
+# 5. prints the checks' verdicts, how many tests skipped and why (from
+#    target/test-skips.log, written by the test-fixtures crate and the pytest suite), then
+#    one line adding up cargo's and pytest's results ("tests: 812 passed, 0 failed, 3 ignored"; pytest's skips count as
 #    ignored), and exits with the first failing status.
 set -uo pipefail
 cd "$(dirname "$0")/.."
@@ -45,6 +48,14 @@ python_output="$target/python-test-output.log"
 CARGO_TARGET_DIR="$target" bash .ci/python-tests.sh "$python_output"
 python_status=$?
 [[ $status -eq 0 ]] && status=$python_status
+
+checks_output="$target/checks-output.log"
+: > "$checks_output"
+bash .ci/checks.sh "$checks_output"
+checks_status=$?
+[[ $status -eq 0 ]] && status=$checks_status
+echo
+cat "$checks_output"
 
 if [[ -s "$POLYLIDAR_SKIP_LOG" ]]; then
     echo
