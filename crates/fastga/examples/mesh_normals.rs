@@ -5,7 +5,7 @@
 //! and finds the dominant normals with the paper's mesh preset. Writes the unwrapped
 //! accumulator image to `fastga_unwrapped.png` in the temporary directory.
 //!
-//! `cargo run -p fastga --example mesh_normals`
+//! `cargo run -p fastga --features png --example mesh_normals`
 
 use fastga::{FastGa, FastGaConfig};
 

@@ -1,5 +1,6 @@
 //! The crate's error type.
 
+#[cfg(feature = "png")]
 use std::path::PathBuf;
 
 use thiserror::Error;
@@ -35,12 +36,15 @@ pub enum FastGaError {
     #[error("unit_tolerance {0} is invalid: it must be a finite number in [0, 1)")]
     InvalidUnitTolerance(f64),
     /// The k-d tree baseline could not be built.
+    #[cfg(feature = "kdtree")]
     #[error("k-d tree construction failed: {0}")]
     KdTree(String),
     /// The PNG encoder failed.
+    #[cfg(feature = "png")]
     #[error("cannot encode the unwrapped image as PNG: {0}")]
     Png(#[from] png::EncodingError),
-    /// The PNG file could not be created or written.
+    /// The PNG file could not be created, written or renamed into place.
+    #[cfg(feature = "png")]
     #[error("cannot write the PNG file {path}: {source}")]
     Io {
         /// The file that was being written.

@@ -2,10 +2,13 @@
 //! `n` columns × `2n` rows of vertices (`n = 2^level`) with a one-pixel border copied from the
 //! adjoining charts, so a 3×3 window around any chart pixel sees its neighbours on the sphere.
 
+#[cfg(feature = "png")]
 use std::io::Write;
+#[cfg(feature = "png")]
 use std::path::Path;
 use std::sync::Arc;
 
+#[cfg(feature = "png")]
 use crate::FastGaError;
 use crate::icosahedron::{CHARTS, Lattice, NORTH_POLE, SOUTH_POLE};
 
@@ -175,6 +178,7 @@ impl UnwrappedImage {
     ///
     /// # Errors
     /// [`FastGaError::Png`] if encoding or writing fails.
+    #[cfg(feature = "png")]
     pub fn write_png_to<W: Write>(&self, writer: W) -> Result<(), FastGaError> {
         let mut encoder = png::Encoder::new(writer, self.width, self.height);
         encoder.set_color(png::ColorType::Grayscale);
@@ -185,18 +189,79 @@ impl UnwrappedImage {
         Ok(())
     }
 
-    /// Writes the image as an 8-bit greyscale PNG file at `path`.
+    /// Writes the image as an 8-bit greyscale PNG file at `path`, atomically: the encoded
+    /// image goes to a temporary file beside `path` (`.<name>.<process id>.<n>.tmp`), is
+    /// flushed to disk and renamed over `path`. A reader sees the old file or the new one; a
+    /// write that fails leaves the old file as it was and no temporary file. A symbolic link
+    /// at `path` is replaced, not followed.
     ///
     /// # Errors
-    /// [`FastGaError::Io`] if the file cannot be created, [`FastGaError::Png`] if encoding
-    /// fails.
+    /// [`FastGaError::Png`] if encoding fails (nothing is written then), [`FastGaError::Io`]
+    /// if the temporary file cannot be created or written or cannot replace `path` (a missing
+    /// directory, a directory at `path`).
+    #[cfg(feature = "png")]
     pub fn write_png(&self, path: impl AsRef<Path>) -> Result<(), FastGaError> {
         let path = path.as_ref();
-        let file = std::fs::File::create(path).map_err(|source| FastGaError::Io {
+        let mut bytes = Vec::new();
+        self.write_png_to(&mut bytes)?;
+        png_file::write_atomically(path, &bytes).map_err(|source| FastGaError::Io {
             path: path.to_path_buf(),
             source,
+        })
+    }
+}
+
+/// The atomic file write behind [`UnwrappedImage::write_png`].
+#[cfg(feature = "png")]
+mod png_file {
+    use std::fs::{File, OpenOptions};
+    use std::io::{self, Write};
+    use std::path::{Path, PathBuf};
+    use std::sync::atomic::{AtomicU64, Ordering};
+
+    /// Temporary names tried before giving up (a name is taken only when an earlier process
+    /// with the same id left its temporary file behind).
+    const NAME_ATTEMPTS: u32 = 16;
+
+    /// Makes the temporary names of one process distinct across calls and threads.
+    static NEXT_TEMP: AtomicU64 = AtomicU64::new(0);
+
+    /// Writes `bytes` to a new temporary file beside `path`, flushes it to disk and renames
+    /// it over `path`; on any failure the temporary file is removed.
+    pub(super) fn write_atomically(path: &Path, bytes: &[u8]) -> io::Result<()> {
+        let (mut file, temp) = create_temp(path)?;
+        let written = file.write_all(bytes).and_then(|()| file.sync_all());
+        drop(file);
+        let result = written.and_then(|()| std::fs::rename(&temp, path));
+        if result.is_err() {
+            // The write's error is the one reported; removing the temporary file is all
+            // that can be done about it.
+            let _ = std::fs::remove_file(&temp);
+        }
+        result
+    }
+
+    /// Creates a temporary file that did not exist before, in the directory of `path`.
+    fn create_temp(path: &Path) -> io::Result<(File, PathBuf)> {
+        let name = path.file_name().ok_or_else(|| {
+            io::Error::new(io::ErrorKind::InvalidInput, "the path does not name a file")
         })?;
-        self.write_png_to(std::io::BufWriter::new(file))
+        let dir = path.parent().unwrap_or_else(|| Path::new(""));
+        let mut taken = io::Error::from(io::ErrorKind::AlreadyExists);
+        for _ in 0..NAME_ATTEMPTS {
+            let n = NEXT_TEMP.fetch_add(1, Ordering::Relaxed);
+            let temp = dir.join(format!(
+                ".{}.{}.{n}.tmp",
+                name.to_string_lossy(),
+                std::process::id()
+            ));
+            match OpenOptions::new().write(true).create_new(true).open(&temp) {
+                Ok(file) => return Ok((file, temp)),
+                Err(e) if e.kind() == io::ErrorKind::AlreadyExists => taken = e,
+                Err(e) => return Err(e),
+            }
+        }
+        Err(taken)
     }
 }
 
@@ -265,6 +330,7 @@ mod tests {
         }
     }
 
+    #[cfg(feature = "png")]
     #[test]
     fn png_round_trips_through_the_encoder() {
         let layout = ImageLayout::new(2);

@@ -14,13 +14,14 @@
 //!    default ([`Search::Adaptive`]) the table is built once the normals integrated have
 //!    paid for it;
 //! 3. the vertex values (mean of the incident cells) are **unwrapped** into the five-chart
-//!    image of Cohen et al. ([`UnwrappedImage`], writable as PNG) normalised to 0–255, whose
+//!    image of Cohen et al. ([`UnwrappedImage`], writable as PNG with the feature `png`) normalised to 0–255, whose
 //!    3×3 local maxima above `value_threshold` are the [`Peak`]s;
 //! 4. peaks are merged by single-linkage clustering within `cluster_distance` into
 //!    [`DominantNormal`]s, and clusters lighter than `min_cluster_weight` are dropped.
 //!
-//! [`KdAccumulator`] is the same accumulator searched with a k-d tree (kiddo), the baseline the
-//! paper compares against. The crate depends on no other part of polylidar-rs.
+//! `KdAccumulator` (feature `kdtree`) is the same accumulator searched with a k-d tree (kiddo),
+//! the baseline the paper compares against. The crate depends on no other part of
+//! polylidar-rs.
 //!
 //! ```
 //! use fastga::{FastGaConfig, dominant_normals};
@@ -42,7 +43,10 @@
 //! count. Sampling (`sample_fraction`) picks normals by a hash of their index.
 //!
 //! ## Cargo features
-//! None.
+//! None is on by default: the accumulator itself needs only `rayon` and `thiserror`.
+//! - `kdtree`: `KdAccumulator`, the k-d tree baseline (pulls `kiddo`).
+//! - `png`: `UnwrappedImage::write_png`, written atomically (a temporary file beside the
+//!   target, renamed into place), and `UnwrappedImage::write_png_to` (both pull `png`).
 
 mod accumulator;
 mod config;
@@ -50,6 +54,7 @@ mod error;
 pub mod icosahedron;
 mod image;
 mod integrate;
+#[cfg(feature = "kdtree")]
 mod kdtree;
 mod peaks;
 pub mod s2id;
@@ -62,6 +67,7 @@ pub use error::FastGaError;
 pub use icosahedron::{Icosahedron, MAX_LEVEL, NO_NEIGHBOR, NORTH_POLE, SOUTH_POLE};
 pub use image::UnwrappedImage;
 pub use integrate::{AsNormal, IntegrateStats, Parallelism};
+#[cfg(feature = "kdtree")]
 pub use kdtree::KdAccumulator;
 pub use peaks::{DominantNormal, Peak, cluster_peaks};
 

@@ -5,7 +5,7 @@ mod common;
 use common::{dot, random_units};
 use std::sync::OnceLock;
 
-use fastga::{GaussianAccumulator, IntegrateStats, KdAccumulator, Parallelism, Search};
+use fastga::{GaussianAccumulator, IntegrateStats, Parallelism, Search};
 use proptest::prelude::*;
 
 /// Accumulators at levels 0–4 with each search, built once for all proptest cases.
@@ -91,8 +91,6 @@ fn invalid_normals_are_skipped_and_counted() {
             }
         );
         assert_eq!(ga.total(), 3);
-        let mut kd = KdAccumulator::new(2).unwrap();
-        assert_eq!(kd.integrate(&normals, 1.0, parallelism).unwrap(), stats);
     }
     let mut strict = GaussianAccumulator::new(2).unwrap();
     strict.set_unit_tolerance(0.0).unwrap();

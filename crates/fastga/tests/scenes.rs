@@ -139,6 +139,9 @@ fn peaks_are_local_maxima_of_the_vertex_values() {
     assert!(clustered.windows(2).all(|w| w[0].weight >= w[1].weight));
 }
 
+/// The PNG file is written atomically: it replaces an older file whole, and a write that
+/// fails leaves what was there and no temporary file.
+#[cfg(feature = "png")]
 #[test]
 fn image_is_written_as_png() {
     let normals = scene(&[([0.0, 0.0, 1.0], 1_000)], 5.0, 1_000, 7);
@@ -147,18 +150,44 @@ fn image_is_written_as_png() {
         .unwrap();
     let image = ga.unwrapped_image();
     assert_eq!((image.width(), image.height()), (90, 34));
-    let path = std::env::temp_dir().join(format!("fastga-test-{}.png", std::process::id()));
+    let dir = std::env::temp_dir().join(format!("fastga-png-test-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let entries = || {
+        let mut names: Vec<String> = std::fs::read_dir(&dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        names.sort();
+        names
+    };
+
+    let path = dir.join("image.png");
+    std::fs::write(&path, b"an older file").unwrap();
     image.write_png(&path).unwrap();
     let bytes = std::fs::read(&path).unwrap();
-    std::fs::remove_file(&path).unwrap();
     assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n");
-    let missing = std::env::temp_dir()
-        .join("no-such-dir-fastga")
-        .join("x.png");
+    let mut encoded = Vec::new();
+    image.write_png_to(&mut encoded).unwrap();
+    assert_eq!(bytes, encoded);
+
+    // A directory cannot be replaced by the file: the rename fails after the temporary file
+    // was written, and the temporary file is removed.
+    let occupied = dir.join("occupied.png");
+    std::fs::create_dir(&occupied).unwrap();
+    assert!(matches!(
+        image.write_png(&occupied),
+        Err(fastga::FastGaError::Io { .. })
+    ));
+    assert!(occupied.is_dir());
+    assert_eq!(entries(), ["image.png", "occupied.png"]);
+
+    let missing = dir.join("no-such-dir").join("x.png");
     assert!(matches!(
         image.write_png(&missing),
         Err(fastga::FastGaError::Io { .. })
     ));
+    assert_eq!(entries(), ["image.png", "occupied.png"]);
+    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]

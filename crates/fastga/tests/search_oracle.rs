@@ -3,7 +3,7 @@
 mod common;
 
 use common::{cross, dot, normalize, random_units, sub};
-use fastga::{GaussianAccumulator, Icosahedron, KdAccumulator, NO_NEIGHBOR, Parallelism, Search};
+use fastga::{GaussianAccumulator, Icosahedron, NO_NEIGHBOR, Parallelism, Search};
 use rayon::prelude::*;
 
 /// Two cells are equally good answers when their normals' dot products with the query differ
@@ -69,13 +69,11 @@ fn levels_0_to_6_match_brute_force() {
             (false, _) => 20_000,
         };
         let [learned, table] = both_searches(level);
-        let kd = KdAccumulator::new(level).unwrap();
         let normals = random_units(u64::from(level) + 7, count);
         normals.par_iter().for_each(|&p| {
             let ico = learned.icosahedron();
             assert_matches_brute_force(ico, learned.find_cell(p), p, "learned index");
             assert_matches_brute_force(ico, table.find_cell(p), p, "cell table");
-            assert_matches_brute_force(kd.icosahedron(), kd.find_cell(p), p, "k-d tree");
         });
     }
 }
@@ -172,17 +170,13 @@ fn one_ring_contains_every_voronoi_neighbour() {
     }
 }
 
-/// `integrate` searches in batches; with either search its counts match exhaustive search,
-/// `find_cell` and the k-d tree (random normals hit no ties).
+/// `integrate` searches in batches; with either search its counts match exhaustive search
+/// and `find_cell` (random normals hit no ties).
 #[test]
-fn integrate_bins_like_brute_force_find_cell_and_the_kd_baseline() {
+fn integrate_bins_like_brute_force_and_find_cell() {
     let normals = random_units(99, 10_000);
     for mut ga in [3, 4].into_iter().flat_map(both_searches) {
-        let level = ga.icosahedron().level();
-        let mut kd = KdAccumulator::new(level).unwrap();
         ga.integrate(&normals, 1.0, Parallelism::Sequential)
-            .unwrap();
-        kd.integrate(&normals, 1.0, Parallelism::Sequential)
             .unwrap();
         let mut brute = vec![0u64; ga.icosahedron().cell_count()];
         let mut single = vec![0u64; ga.icosahedron().cell_count()];
@@ -192,6 +186,5 @@ fn integrate_bins_like_brute_force_find_cell_and_the_kd_baseline() {
         }
         assert_eq!(ga.counts(), &brute[..]);
         assert_eq!(ga.counts(), &single[..]);
-        assert_eq!(kd.counts(), ga.counts());
     }
 }
