@@ -9,7 +9,7 @@ use std::time::Duration;
 
 use clap::Args;
 use polylidar::io::{DepthCamera, Input};
-use polylidar::output::{PolygonSet, feature_collection};
+use polylidar::output::{Annotations, PolygonSet, feature_collection_with};
 use polylidar::stream::{StreamOptions, StreamedFrame};
 use polylidar::{Extraction, OrganizedPointCloud, Polylidar, PolylidarError};
 use polylidar_io::ColorImage;
@@ -485,33 +485,12 @@ fn frame_collection(
     colors: Option<&ColorImage>,
     stride: usize,
 ) -> String {
-    let collection: Value =
-        serde_json::from_str(&feature_collection(extraction, true, set)).unwrap_or(Value::Null);
-    let mut features = collection
-        .get("features")
-        .cloned()
-        .unwrap_or_else(|| Value::Array(Vec::new()));
-    if let (Some(image), Value::Array(features)) = (colors, &mut features) {
-        let means = mean_colors(extraction, image, stride);
-        for feature in features {
-            let polygon = feature["properties"]
-                .get("source")
-                .or_else(|| feature["properties"].get("index"))
-                .and_then(Value::as_u64)
-                .unwrap_or(u64::MAX) as usize;
-            if let (Some(mean), Some(properties)) = (
-                means.get(polygon).copied().flatten(),
-                feature["properties"].as_object_mut(),
-            ) {
-                properties.insert("color".to_owned(), json!(mean));
-            }
-        }
-    }
-    let mut out = Map::new();
-    out.insert("type".to_owned(), json!("FeatureCollection"));
-    out.insert("frame".to_owned(), json!(name));
-    out.insert("features".to_owned(), features);
-    Value::Object(out).to_string()
+    let means = colors.map(|image| mean_colors(extraction, image, stride));
+    let annotations = Annotations {
+        frame: Some(name),
+        colors: means.as_deref(),
+    };
+    feature_collection_with(extraction, true, set, annotations)
 }
 
 /// The mean colour of each polygon's pixels (`None` for a polygon without pixels). The
