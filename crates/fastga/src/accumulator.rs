@@ -21,9 +21,10 @@ pub enum Search {
     LearnedIndex,
     /// A table over the S2 cells two levels finer than the icosahedron (at most S2 level 8)
     /// listing every cell that can be closest inside each: a query is the S2 cell's face and
-    /// `(i, j)` plus the dot products with a few candidates. The fastest to query, about half
-    /// the instructions of [`LearnedIndex`](Self::LearnedIndex), but about eight learned-index
-    /// queries' worth of work per table entry to build (6·4^(level + 2) entries). At level 7
+    /// `(i, j)` plus the dot products with a few candidates, with no search and no ascent.
+    /// The fastest to query but the costliest to build: 6·4^(level + 2) entries, each
+    /// costing about what [`TABLE_PAYS_AFTER`] queries through the table save (the crate
+    /// README gives the measured costs). At level 7
     /// its table is coarse and slow to build: prefer [`LearnedIndex`](Self::LearnedIndex) there.
     CellTable,
     /// [`LearnedIndex`](Self::LearnedIndex) until the normals integrated, counting the call

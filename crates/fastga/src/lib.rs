@@ -10,7 +10,7 @@
 //!    id to array index with exact worst-case error bounds, a branchless binary search in that
 //!    window, then steepest ascent over the 1-ring neighbour matrix by true angular distance)
 //!    or by a **cell table** built from it ([`Search::CellTable`]: the candidate cells of each
-//!    S2 cell two levels finer than the icosahedron, about twice as fast to query); by
+//!    S2 cell two levels finer than the icosahedron, faster to query, costlier to build); by
 //!    default ([`Search::Adaptive`]) the table is built once the normals integrated have
 //!    paid for it;
 //! 3. the vertex values (mean of the incident cells) are **unwrapped** into the five-chart

@@ -32,8 +32,8 @@ use clap::Parser;
 
 /// An allocator that keeps freed memory for reuse. With the system allocator (glibc), the
 /// large per-frame buffers (the mesh, its normals, the filtered cloud) go back to the
-/// kernel when freed and come back as fresh zeroed pages on the next frame: on pc_01 that
-/// page faulting cost about a tenth of the pipeline's time.
+/// kernel when freed and come back as fresh zeroed pages on the next frame (the polylidar
+/// crate's README, "Frame after frame", says what that page faulting costs).
 #[global_allocator]
 static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
 

@@ -286,7 +286,8 @@ pub struct Polylidar {
     config: Config,
     pool: Option<rayon::ThreadPool>,
     /// Kept between 3D runs: the FastGA detector (building its accumulator costs more
-    /// than integrating a frame's normals, ≈ 12 ms at level 5) and the smoothers' buffers.
+    /// than integrating a frame's normals; fastga's README has the figures) and the
+    /// smoothers' buffers.
     /// Runs on one `Polylidar` from several threads take turns on these stages.
     pub(crate) reuse: std::sync::Mutex<crate::reuse::Reusable>,
 }

@@ -294,9 +294,9 @@ fn meets(overlap: usize, size: usize, t: f64) -> bool {
 /// times `n`, otherwise O(n + r log r) for `r` runs of equal labels. The overlap table is
 /// a dense count matrix when (ground-truth planes × predicted segments) is at most
 /// `2n + 65536`, otherwise sorted pair keys (one per run). Runs of points with equal
-/// labels (long in organized clouds) are accumulated as a whole. Single-threaded; a
-/// 500 × 500 scene (250,000 points) takes about 1.3 ms
-/// (`cargo run --release -p seg-metrics --example timing`).
+/// labels (long in organized clouds) are accumulated as a whole. Single-threaded;
+/// `cargo run --release -p seg-metrics --example timing` times it (figure in the crate
+/// README).
 pub fn evaluate(
     points: &[[f64; 3]],
     truth: &[i32],

@@ -91,8 +91,7 @@ fn fill_row(row: &[[f64; 3]], [x, y, z, m]: [&mut [f32]; 4]) {
 /// A row kernel streams through all its planes at the same index at once. Planes
 /// allocated separately often start at the same offset modulo a large power of two
 /// (allocators hand out big blocks page- or segment-aligned), so those streams compete
-/// for the same cache sets; measured on the Laplacian filter (8 planes) with an allocator
-/// that aligns to 64 KiB, that cost 10–30 %.
+/// for the same cache sets (the crate README gives what that cost the Laplacian filter).
 #[derive(Debug, Default)]
 pub(crate) struct PlaneSet<const N: usize> {
     data: Vec<f32>,
