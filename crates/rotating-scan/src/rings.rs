@@ -1,6 +1,6 @@
 //! Beams (rings) of a rotating scan: which points one laser fired, in sweep order.
 
-use std::f64::consts::{PI, TAU};
+use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 use rayon::prelude::*;
 
@@ -123,6 +123,25 @@ pub(crate) fn azimuth(p: &[f64; 3]) -> f64 {
     p[1].atan2(p[0])
 }
 
+/// [`azimuth`] within 1.2 · 10⁻⁵ radians, at a fraction of the cost of `atan2`
+/// (branch-free, so a loop over points vectorizes): arctan on [0, 1] by the degree-9 odd
+/// polynomial of Abramowitz & Stegun 4.4.49, then the octant. Splitting a scan into beams
+/// compares azimuth steps of about a milliradian and turns of 2π, far above the error.
+/// `p` must be off the vertical axis.
+#[inline]
+fn fast_azimuth(p: &[f64; 3]) -> f64 {
+    let (x, y) = (p[0], p[1]);
+    let (ax, ay) = (x.abs(), y.abs());
+    let t = ax.min(ay) / ax.max(ay);
+    let t2 = t * t;
+    let atan = t
+        * (0.999_866_0
+            + t2 * (-0.330_299_5 + t2 * (0.180_141_0 + t2 * (-0.085_133_0 + t2 * 0.020_835_1))));
+    let octant = if ay > ax { FRAC_PI_2 - atan } else { atan };
+    let half = if x < 0.0 { PI - octant } else { octant };
+    half.copysign(y)
+}
+
 /// Elevation of `p` seen from the origin, radians.
 #[inline]
 pub(crate) fn elevation(p: &[f64; 3]) -> f64 {
@@ -200,7 +219,7 @@ impl Rings {
             .with_min_len(PARALLEL_CHUNK)
             .map(|&i| {
                 let p = &points[i as usize];
-                (p[0] != 0.0 || p[1] != 0.0).then(|| azimuth(p))
+                (p[0] != 0.0 || p[1] != 0.0).then(|| fast_azimuth(p))
             })
             .collect();
         let steps = forward_steps(&azimuths);
@@ -442,6 +461,37 @@ mod tests {
                 assert_eq!(rings.ring(r).first().copied(), Some(100 * r as u32));
                 assert_eq!(rings.ring(r).len(), 100);
             }
+        }
+    }
+
+    /// A&S give 10⁻⁵ for the polynomial; with the coefficients rounded as they print them
+    /// the test measures 1.15 · 10⁻⁵.
+    const FAST_AZIMUTH_ERROR: f64 = 1.2e-5;
+
+    #[test]
+    fn fast_azimuth_is_atan2_within_its_error() {
+        // Every direction on a fine circle, at ranges from 1 mm to 1 km, and the axes.
+        let mut worst = 0.0f64;
+        for k in 0..100_000 {
+            let a = f64::from(k) * TAU / 100_000.0 - PI;
+            for r in [1e-3, 1.0, 37.5, 1e3] {
+                let p = [r * a.cos(), r * a.sin(), 0.5];
+                worst = worst.max((fast_azimuth(&p) - azimuth(&p)).abs());
+            }
+        }
+        assert!(worst <= FAST_AZIMUTH_ERROR, "{worst}");
+        assert!(worst > 1e-7, "{worst}: not the approximation");
+        for p in [
+            [1.0, 0.0, 0.0],
+            [0.0, 2.0, 0.0],
+            [-3.0, 0.0, 0.0],
+            [0.0, -4.0, 0.0],
+            [5.0, 5.0, 0.0],
+        ] {
+            assert!(
+                (fast_azimuth(&p) - azimuth(&p)).abs() <= FAST_AZIMUTH_ERROR,
+                "{p:?}"
+            );
         }
     }
 
