@@ -55,12 +55,12 @@ pub struct CityArgs {
 /// Generates and writes the city.
 pub fn city(args: &CityArgs) -> Result<()> {
     let started = Instant::now();
-    let city = City::new(CityConfig {
-        points: args.points,
-        density: args.density,
-        seed: args.seed,
-        ..CityConfig::default()
-    })?;
+    let city = City::new(
+        CityConfig::default()
+            .with_points(args.points)
+            .with_density(args.density)
+            .with_seed(args.seed),
+    )?;
     if !(args.tile.is_finite() && args.tile > 0.0) {
         return Err(msg(format!("--tile {} must be positive", args.tile)));
     }

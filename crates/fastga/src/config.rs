@@ -7,6 +7,7 @@ use crate::{FastGaError, MAX_LEVEL};
 
 /// Parameters of dominant-normal detection, named as in the paper and `DESIGN.md`.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
 pub struct FastGaConfig {
     /// Icosahedron refinement level, 0–7: `20·4^level` cells (level 4: 5,120 cells, about 4°
     /// between neighbouring vertices). Default 4.

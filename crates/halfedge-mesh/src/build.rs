@@ -43,6 +43,7 @@ pub enum DegeneratePolicy {
 /// assert_eq!(options.non_manifold, NonManifoldPolicy::AllBorder);
 /// ```
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash)]
+#[non_exhaustive]
 pub struct MeshOptions {
     /// Handling of edges shared by more than two triangles.
     pub non_manifold: NonManifoldPolicy,

@@ -2,6 +2,7 @@
 
 /// Why a mesh could not be built, or which invariant a mesh breaks.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum MeshError {
     /// Fewer points than a triangulation needs.
     #[error("need at least 3 points to triangulate, got {found}")]

@@ -34,6 +34,7 @@ pub enum Backend {
 /// `kernel × kernel` pixel neighbourhood of `v` (itself excluded, NaN neighbours skipped),
 /// repeated `iterations` times, each iteration reading only the previous one's output.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
 pub struct LaplacianOptions {
     /// Side of the square pixel neighbourhood: odd, 3 to [`MAX_KERNEL`]. Pixels closer than
     /// `kernel / 2` to the image edge are not filtered. Default 3.
@@ -125,6 +126,7 @@ impl LaplacianOptions {
 /// `kernel × kernel` cell neighbourhood except the triangle's own cell, missing triangles
 /// skipped; repeated `iterations` times. Centroids stay fixed: only normals change.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
 pub struct BilateralOptions {
     /// Side of the square cell neighbourhood: odd, 3 to [`MAX_KERNEL`]. Cells closer than
     /// `kernel / 2` to the edge of the cell grid keep their unfiltered normals. Default 3.

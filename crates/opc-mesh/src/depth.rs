@@ -48,6 +48,7 @@ impl Intrinsics {
 /// assert_eq!(options.stride, 2);
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
 pub struct DepthOptions {
     /// The camera model.
     pub intrinsics: Intrinsics,

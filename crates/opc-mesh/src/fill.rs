@@ -12,6 +12,7 @@ use crate::{OrganizedPointCloud, is_valid};
 
 /// When an invalid pixel is filled ([`OrganizedPointCloud::fill_missing`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
 pub struct FillOptions {
     /// Valid pixels needed among the 8 around it, 1–8. Default 4.
     pub min_neighbours: u8,
@@ -26,6 +27,20 @@ impl Default for FillOptions {
             min_neighbours: 4,
             max_spread: 0.03,
         }
+    }
+}
+
+impl FillOptions {
+    /// Sets [`Self::min_neighbours`].
+    pub fn with_min_neighbours(mut self, min_neighbours: u8) -> Self {
+        self.min_neighbours = min_neighbours;
+        self
+    }
+
+    /// Sets [`Self::max_spread`].
+    pub fn with_max_spread(mut self, max_spread: f64) -> Self {
+        self.max_spread = max_spread;
+        self
     }
 }
 

@@ -16,6 +16,7 @@ use crate::{OpcError, OrganizedPointCloud, OrganizedPointCloudView};
 /// assert!(!options.compute_normals);
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[non_exhaustive]
 pub struct OpcMeshOptions {
     /// Compute unit triangle normals in the same pass. Default `true`.
     pub compute_normals: bool,

@@ -161,10 +161,7 @@ fn parameter_errors() {
             Err(OpcError::InvalidParameter { name, .. }) => name,
             other => panic!("expected an invalid parameter, got {other:?}"),
         };
-    let with_k = |fx, fy, ppx, ppy| DepthOptions {
-        intrinsics: Intrinsics::new(fx, fy, ppx, ppy),
-        ..good
-    };
+    let with_k = |fx, fy, ppx, ppy| DepthOptions::new(Intrinsics::new(fx, fy, ppx, ppy));
     assert_eq!(bad_parameter(with_k(0.0, 1.0, 0.0, 0.0)), "intrinsics.fx");
     assert_eq!(bad_parameter(with_k(1.0, -2.0, 0.0, 0.0)), "intrinsics.fy");
     assert_eq!(

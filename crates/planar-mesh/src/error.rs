@@ -2,6 +2,7 @@
 
 /// Why a planar segment could not be simplified, meshed or textured.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum MeshError {
     /// The segment has fewer than three points: there is no plane to fit.
     #[error("a planar segment needs at least 3 points, this one has {0}")]

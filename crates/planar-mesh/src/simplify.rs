@@ -56,6 +56,7 @@ pub enum Depth {
 
 /// Options of [`simplify`] and [`simplify_all`].
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
 pub struct MeshOptions {
     /// Triangulation method (default polygon-based).
     pub method: Method,

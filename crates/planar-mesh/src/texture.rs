@@ -28,6 +28,7 @@ pub const DEFAULT_TEXELS_PER_UNIT: f64 = 100.0;
 
 /// Texture settings.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
 pub struct TextureOptions {
     /// Texels per unit length.
     pub resolution: Resolution,

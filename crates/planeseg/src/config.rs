@@ -5,6 +5,7 @@ use crate::SegmentError;
 /// Parameters of planar segmentation, named as in the papers. Lengths are in the units of
 /// the mesh coordinates (metres for most sensors).
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
 pub struct SegmentationConfig {
     /// Drop triangles whose longest edge exceeds this; `0` disables the test.
     pub lmax: f64,

@@ -70,6 +70,7 @@ use polyextract::ExtractError;
 
 /// Why a mesh could not be segmented.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum SegmentError {
     /// Segmentation needs triangle normals.
     #[error(

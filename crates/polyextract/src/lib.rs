@@ -48,6 +48,7 @@ pub struct Polygon {
 
 /// Why a region could not be turned into a polygon.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum ExtractError {
     /// The region has no triangle.
     #[error("the region has no triangles")]

@@ -184,12 +184,12 @@ pub fn synth_city(
     density: f64,
     laz: bool,
 ) -> PyResult<Vec<PathBuf>> {
-    let city = synthscan::City::new(synthscan::CityConfig {
-        points,
-        density,
-        seed,
-        ..synthscan::CityConfig::default()
-    })
+    let city = synthscan::City::new(
+        synthscan::CityConfig::default()
+            .with_points(points)
+            .with_density(density)
+            .with_seed(seed),
+    )
     .map_err(|e| error(&e))?;
     if !(tile.is_finite() && tile > 0.0) {
         return Err(pyo3::exceptions::PyValueError::new_err(format!(

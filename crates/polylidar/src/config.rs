@@ -106,10 +106,9 @@ impl Default for FillConfig {
 impl FillConfig {
     /// The filler's options.
     pub fn options(&self) -> FillOptions {
-        FillOptions {
-            min_neighbours: self.min_neighbours,
-            max_spread: self.max_spread,
-        }
+        FillOptions::default()
+            .with_min_neighbours(self.min_neighbours)
+            .with_max_spread(self.max_spread)
     }
 }
 

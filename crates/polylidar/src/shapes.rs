@@ -10,6 +10,7 @@ use crate::ExtractedPolygon;
 
 /// Why a shape could not be used.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum ShapeError {
     /// The text is not GeoJSON.
     #[error("not valid GeoJSON: {0}")]

@@ -53,6 +53,7 @@ pub const MAX_TILES_PER_AXIS: u32 = 1 << 20;
 
 /// Errors of tiling, tile extraction and merging.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum TileError {
     /// A grid parameter is out of range, or a tile is not on the grid.
     #[error("invalid tile grid: {0}")]

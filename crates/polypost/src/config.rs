@@ -47,6 +47,7 @@ impl Default for BufferJoin {
 /// repairs invalid polygons. Units assume coordinates in metres; any other length unit
 /// works if every field uses it consistently (areas in that unit squared).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[non_exhaustive]
 pub struct PostprocessConfig {
     /// α: simplification tolerance in metres: no vertex of the input is farther than
     /// `alpha` from the simplified ring (Ramer–Douglas–Peucker). `0` = no simplification.

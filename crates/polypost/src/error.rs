@@ -6,6 +6,7 @@
 /// [`Diagnostics`](crate::Diagnostics). Errors are reserved for inputs that make the
 /// whole call meaningless (a bad configuration, a plane that is not a plane).
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum PostError {
     /// Plane fitting needs at least three points.
     #[error("plane fitting needs at least 3 points, got {found}")]

@@ -7,6 +7,7 @@ use crate::plane::Plane;
 
 /// Options of [`fit_plane_with_options`].
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[non_exhaustive]
 pub struct PlaneFitOptions {
     /// If set, the fitted normal is flipped so that `normal · hint >= 0` (e.g. the
     /// direction towards the sensor, or the segment's dominant normal). Default: none, the

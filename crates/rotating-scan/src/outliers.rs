@@ -20,6 +20,7 @@ use crate::{Rings, ScanError};
 /// assert!(config.validate().is_ok());
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
 pub struct BeamOutlierConfig {
     /// Neighbours tested on each side of a point (≥ 1). With 1 the two neighbours are
     /// taken as the surface without a flatness test.

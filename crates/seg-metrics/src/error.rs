@@ -22,6 +22,7 @@ impl fmt::Display for Labels {
 
 /// Why [`evaluate`](crate::evaluate) refused its input.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum MetricsError {
     /// The three inputs must describe the same points, one entry per point.
     #[error(

@@ -20,6 +20,7 @@ const SCORE_TIE: f64 = 1e-12;
 
 /// Options of [`evaluate`].
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
 pub struct EvaluateOptions {
     /// Hoover's overlap threshold `T`, a fraction in (0.5, 1]. Default 0.8, the "standard
     /// 80 % threshold" of the Polylidar3D paper (§9.3.2) and of SynPEB.

@@ -24,6 +24,7 @@ pub struct FloorBox {
 
 /// A table: a box top on four square box legs (metres).
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
 pub struct TableConfig {
     /// Centre of the top's footprint `[x, y]` (default `[2.0, 2.5]`).
     pub center: [f64; 2],
@@ -56,6 +57,7 @@ impl Default for TableConfig {
 ///
 /// The room spans `[0, size.x] × [0, size.y] × [0, size.z]`, z up.
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 pub struct RoomConfig {
     /// Room size `[x, y, z]` (default `[6.0, 5.0, 3.0]`).
     pub size: [f64; 3],
@@ -106,6 +108,7 @@ impl RoomConfig {
 
 /// A straight staircase rising along `+x` from `x = 0`, spanning `y ∈ [0, width]` (metres).
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
 pub struct StairsConfig {
     /// Number of steps (default 4).
     pub steps: usize,
@@ -134,6 +137,7 @@ impl Default for StairsConfig {
 /// Ramps (wedges) side by side along `+y`, each rising along `+x` from `x = 0` to
 /// `x = run` at its angle (metres, degrees).
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 pub struct RampsConfig {
     /// Slope of each ramp in degrees, each in `(0, 80]` (default `[10, 20, 30, 45]`).
     pub angles_deg: Vec<f64>,
@@ -162,6 +166,7 @@ impl Default for RampsConfig {
 /// A room populated with random polyhedra (boxes, wedges, prisms; some tilted), like the
 /// SynPEB benchmark scenes. Metres and degrees; z up, room `[0, x] × [0, y] × [0, z]`.
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 pub struct RandomPolyhedraConfig {
     /// Seed (default 0).
     pub seed: u64,

@@ -21,7 +21,7 @@
 //!
 //! ```
 //! use synthscan::{City, CityConfig};
-//! let city = City::new(CityConfig { points: 200_000, ..CityConfig::default() })?;
+//! let city = City::new(CityConfig::default().with_points(200_000))?;
 //! let tile = city.tile([0.0, 0.0], 60.0);
 //! assert!(tile.points.len() > 20_000);
 //! assert_eq!(tile.points.len(), tile.labels.len());
@@ -36,6 +36,7 @@
 
 /// Errors of [`City::new`].
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum CityError {
     /// A parameter is out of range.
     #[error("invalid city parameter {name} = {value}: {reason}")]
@@ -51,6 +52,7 @@ pub enum CityError {
 
 /// The size and look of a [`City`].
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
 pub struct CityConfig {
     /// About how many returns the whole city has: the size parameter (the side of the
     /// city is `sqrt(points / density)`).
@@ -91,6 +93,26 @@ impl Default for CityConfig {
             swath: 300.0,
             seed: 1,
         }
+    }
+}
+
+impl CityConfig {
+    /// Sets [`Self::points`].
+    pub fn with_points(mut self, points: u64) -> Self {
+        self.points = points;
+        self
+    }
+
+    /// Sets [`Self::density`].
+    pub fn with_density(mut self, density: f64) -> Self {
+        self.density = density;
+        self
+    }
+
+    /// Sets [`Self::seed`].
+    pub fn with_seed(mut self, seed: u64) -> Self {
+        self.seed = seed;
+        self
     }
 }
 

@@ -4,6 +4,7 @@
 ///
 /// Rings are numbered `0` for the outer ring and `1 + h` for hole `h`.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum SceneError {
     /// A ring has fewer than three distinct, non-collinear vertices.
     #[error(

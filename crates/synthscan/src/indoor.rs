@@ -16,6 +16,7 @@ use crate::vec3::{V3, add, cross, dot, norm, scale};
 /// ([`Scene::indoor`], [`rgbd_like`]). Metres and degrees; z up, room
 /// `[0, x] × [0, y] × [0, z]`, the camera near the `x = 0` wall looking along `+x`.
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 pub struct IndoorConfig {
     /// Seed of the layout and the camera pose (default 0).
     pub seed: u64,

@@ -65,10 +65,9 @@ fn room_rejects_bad_placements() {
         size: [0.3, 0.3, 0.4],
     }));
     assert!(Scene::room(&under_table).is_ok());
-    let fat_legs = RoomConfig::default().with_table(Some(TableConfig {
-        leg_width: 0.5,
-        ..TableConfig::default()
-    }));
+    let mut fat_legged_table = TableConfig::default();
+    fat_legged_table.leg_width = 0.5;
+    let fat_legs = RoomConfig::default().with_table(Some(fat_legged_table));
     assert!(Scene::room(&fat_legs).is_err());
     assert!(Scene::room(&RoomConfig::default().with_size([6.0, f64::NAN, 3.0])).is_err());
 }
@@ -91,12 +90,13 @@ fn stairs_planes() -> Result<(), SceneError> {
     assert!(close(sides[0].normal, [0.0, -1.0, 0.0]));
     assert!(close(sides[1].normal, [0.0, 1.0, 0.0]));
     assert_eq!(sides[0].polygons[0].outer.len(), 2 * c.steps + 2);
-    let no_floor = Scene::stairs(&StairsConfig {
-        floor_margin: 0.0,
-        ..c
-    })?;
+    let mut no_margin = c;
+    no_margin.floor_margin = 0.0;
+    let no_floor = Scene::stairs(&no_margin)?;
     assert_eq!(no_floor.faces().len(), 2 * c.steps + 3);
-    assert!(Scene::stairs(&StairsConfig { steps: 0, ..c }).is_err());
+    let mut no_steps = c;
+    no_steps.steps = 0;
+    assert!(Scene::stairs(&no_steps).is_err());
     Ok(())
 }
 
@@ -115,12 +115,12 @@ fn ramp_slopes() -> Result<(), SceneError> {
             "every slope starts at x = 0, z = 0"
         );
     }
-    let bad = RampsConfig {
-        angles_deg: vec![10.0, 95.0],
-        ..c.clone()
-    };
+    let mut bad = c.clone();
+    bad.angles_deg = vec![10.0, 95.0];
     assert!(Scene::ramps(&bad).is_err());
-    assert!(Scene::ramps(&RampsConfig { gap: 0.0, ..c }).is_err());
+    let mut no_gap = c;
+    no_gap.gap = 0.0;
+    assert!(Scene::ramps(&no_gap).is_err());
     Ok(())
 }
 
@@ -159,14 +159,10 @@ fn random_polyhedra_errors() {
         Scene::random_polyhedra(&crowded),
         Err(SceneError::PlacementFailed { requested: 200, .. })
     ));
-    let bad = RandomPolyhedraConfig {
-        tilted_fraction: 1.5,
-        ..Default::default()
-    };
+    let mut bad = RandomPolyhedraConfig::default();
+    bad.tilted_fraction = 1.5;
     assert!(Scene::random_polyhedra(&bad).is_err());
-    let bad = RandomPolyhedraConfig {
-        size_range: [1.0, 0.5],
-        ..Default::default()
-    };
+    let mut bad = RandomPolyhedraConfig::default();
+    bad.size_range = [1.0, 0.5];
     assert!(Scene::random_polyhedra(&bad).is_err());
 }

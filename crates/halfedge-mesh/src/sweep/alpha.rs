@@ -46,6 +46,7 @@ const TINY_EDGE: f64 = 1e-12;
 /// assert_eq!(options.strips, 4);
 /// ```
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash)]
+#[non_exhaustive]
 pub struct AlphaComplexOptions {
     /// Number of vertical strips triangulated in parallel; `0` (the default) chooses from
     /// the point count and the extent of the points: the largest power of two not above

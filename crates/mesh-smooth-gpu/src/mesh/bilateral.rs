@@ -19,6 +19,7 @@ pub enum TriangleNeighbourhood {
 
 /// Options of [`bilateral_normals`].
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
 pub struct MeshBilateralOptions {
     /// σ_l, the spatial scale, in the mesh's length unit; finite, > 0. Default 0.1.
     pub sigma_length: f64,

@@ -19,6 +19,7 @@ pub enum Weighting {
 
 /// Options of [`laplacian`].
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
 pub struct MeshLaplacianOptions {
     /// Step towards the weighted neighbour mean; finite. Default 0.5.
     pub lambda: f64,
@@ -83,6 +84,7 @@ impl MeshLaplacianOptions {
 
 /// Options of [`taubin`].
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
 pub struct TaubinOptions {
     /// The shrinking step, > 0. Default 0.5.
     pub lambda: f64,

@@ -7,6 +7,7 @@ use crate::error::{ErrorKind, Format, IoError};
 
 /// How [`write_las`] stores coordinates.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
 pub struct LasWriteOptions {
     /// The coordinate resolution (the header's scale, the same on x, y and z): `0.001` is
     /// millimetres for data in metres. Coordinates are rounded to it.

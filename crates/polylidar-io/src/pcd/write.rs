@@ -20,6 +20,7 @@ pub enum PcdScalar {
 
 /// Options of [`write_pcd_with_options`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[non_exhaustive]
 pub struct PcdWriteOptions {
     /// Data encoding (default [`PcdEncoding::Binary`]).
     pub encoding: PcdEncoding,
