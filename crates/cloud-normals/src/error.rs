@@ -2,6 +2,7 @@
 
 /// Why normals or a voxel grid could not be computed.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum NormalsError {
     /// The cloud has no point.
     #[error("the cloud is empty")]
