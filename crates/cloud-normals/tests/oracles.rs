@@ -94,6 +94,42 @@ fn neighbours_on_surfaces_with_duplicates_and_outliers_are_the_brute_force_ones(
 }
 
 #[test]
+fn neighbours_among_many_copies_and_far_outliers_are_the_brute_force_ones() {
+    // A random cloud with long runs of one position (longer than k, so capped in the
+    // grid), far outliers on every side (beyond the grid's robust extent, clamped into
+    // its border cells) and a near-overflow one.
+    let mut rng = ChaCha8Rng::seed_from_u64(11);
+    for seed in 0..3 {
+        let mut points = random_cloud(1000, seed);
+        for copies in [40, 13, 300] {
+            let at = rng.random_range(0..points.len());
+            let p = points[at];
+            for _ in 0..copies {
+                let at = rng.random_range(0..points.len());
+                points.insert(at, p);
+            }
+        }
+        for far in [4.2e19, -3.0e12, 1.0e150, 8.0e3] {
+            let axis = rng.random_range(0..3);
+            let mut p = points[rng.random_range(0..points.len())];
+            p[axis] = far;
+            points.insert(rng.random_range(0..points.len()), p);
+        }
+        let ks = [1, 12, 40];
+        let found: Vec<Neighbours> = ks
+            .iter()
+            .map(|&k| Neighbours::new(&points, k).unwrap())
+            .collect();
+        for i in 0..points.len() {
+            let all = brute_force(&points, i, 40);
+            for (knn, k) in found.iter().zip(ks) {
+                assert_eq!(knn.of(i), &all[..k], "seed {seed}, point {i}, k {k}");
+            }
+        }
+    }
+}
+
+#[test]
 fn pca_normals_of_a_noisy_tilted_plane_match_it() {
     // The plane through c with normal n, sampled on a jittered grid with 1 mm noise.
     let n = {
