@@ -1,6 +1,6 @@
 //! Exact nearest-point queries in the plane for the texture (Alg. 1): the points bucketed
-//! in a uniform grid of about two points per cell, searched ring by ring around the query's
-//! cell until no unvisited cell can hold a nearer point. Building is a counting sort
+//! in a uniform grid of about two points per cell, searched in the 3 × 3 cells around the
+//! query's cell, then ring by ring, until no unvisited cell can hold a nearer point. Building is a counting sort
 //! (linear), a query visits a few cells and allocates nothing.
 
 /// Points bucketed by grid cell. Ties are broken towards the smaller point index, so the
@@ -90,11 +90,12 @@ impl PointGrid {
         r * self.cols + c
     }
 
-    /// Updates `best` (squared distance, index) with the points of cell `(c, r)`.
+    /// Updates `best` (squared distance, index) with the points of cells `c_lo..=c_hi` of
+    /// row `r`, which lie one after the other in `sorted`.
     #[inline]
-    fn scan(&self, c: usize, r: usize, q: [f64; 2], best: &mut (f64, u32)) {
-        let cell = r * self.cols + c;
-        let range = self.starts[cell] as usize..self.starts[cell + 1] as usize;
+    fn scan(&self, r: usize, c_lo: usize, c_hi: usize, q: [f64; 2], best: &mut (f64, u32)) {
+        let row = r * self.cols;
+        let range = self.starts[row + c_lo] as usize..self.starts[row + c_hi + 1] as usize;
         for &(p, k) in &self.sorted[range] {
             let (dx, dy) = (p[0] - q[0], p[1] - q[1]);
             let d = dx * dx + dy * dy;
@@ -110,21 +111,23 @@ impl PointGrid {
         let mut best = (f64::INFINITY, u32::MAX);
         // A hair of slack: a point's cell comes from rounded arithmetic.
         let slack = self.cell * 1e-9;
-        for ring in 0usize.. {
+        // The 3 × 3 cells around the query first (three runs of `sorted`), then ring after
+        // ring around them.
+        for ring in 1usize.. {
             let (c_lo, c_hi) = (c0.checked_sub(ring), c0 + ring);
             let (r_lo, r_hi) = (r0.checked_sub(ring), r0 + ring);
-            let cs = c_lo.unwrap_or(0)..=c_hi.min(self.cols - 1);
-            if ring == 0 {
-                self.scan(c0, r0, q, &mut best);
+            let (cs_lo, cs_hi) = (c_lo.unwrap_or(0), c_hi.min(self.cols - 1));
+            if ring == 1 {
+                for r in r_lo.unwrap_or(0)..=r_hi.min(self.rows - 1) {
+                    self.scan(r, cs_lo, cs_hi, q, &mut best);
+                }
             } else {
                 // Bottom and top rows of the ring, then its left and right columns.
                 for r in [r_lo, (r_hi < self.rows).then_some(r_hi)]
                     .into_iter()
                     .flatten()
                 {
-                    for c in cs.clone() {
-                        self.scan(c, r, q, &mut best);
-                    }
+                    self.scan(r, cs_lo, cs_hi, q, &mut best);
                 }
                 let rs = r_lo.map_or(0, |r| r + 1)..r_hi.min(self.rows);
                 for c in [c_lo, (c_hi < self.cols).then_some(c_hi)]
@@ -132,7 +135,7 @@ impl PointGrid {
                     .flatten()
                 {
                     for r in rs.clone() {
-                        self.scan(c, r, q, &mut best);
+                        self.scan(r, c, c, q, &mut best);
                     }
                 }
             }
