@@ -97,6 +97,8 @@ fn main() {
     times.sort_by(f64::total_cmp);
     let (mut vertices, mut boundary, mut triangles, mut area, mut texels, mut sum) =
         (0, 0, 0, 0.0, 0u64, 0u64);
+    // A checksum of the triangles (their vertex indices, in order) and of the vertices.
+    let mut mesh_sum = 0u64;
     let mut failed = 0;
     let (mut largest, mut total) = (0.0f64, 0.0);
     for p in &last {
@@ -111,6 +113,13 @@ fn main() {
         boundary += p.stats.boundary_vertices;
         triangles += p.triangles.len();
         area += p.area();
+        mesh_sum = p
+            .triangles
+            .iter()
+            .flatten()
+            .map(|&v| u64::from(v))
+            .chain(p.vertices_2d.iter().flatten().map(|x| x.to_bits()))
+            .fold(mesh_sum, |s, v| s.wrapping_mul(31).wrapping_add(v));
         if let Some(t) = &p.texture {
             texels += u64::from(t.width) * u64::from(t.height);
             sum = t
@@ -120,7 +129,7 @@ fn main() {
         }
     }
     println!(
-        "planes {} failed {failed} vertices {vertices} boundary {boundary} triangles {triangles} area {area:.9} texels {texels} checksum {sum:x}",
+        "planes {} failed {failed} vertices {vertices} boundary {boundary} triangles {triangles} area {area:.9} mesh checksum {mesh_sum:x} texels {texels} checksum {sum:x}",
         last.len()
     );
     println!(
