@@ -56,12 +56,20 @@ impl PlaneFrame {
             mean += Vector3::from(*p);
         }
         mean /= n;
-        let mut cov = Matrix3::zeros();
+        // The six distinct entries of the symmetric covariance, summed in point order.
+        let mut sums = [0.0f64; 6];
         for p in points {
             let d = Vector3::from(*p) - mean;
-            cov += d * d.transpose();
+            let (x, y, z) = (d[0], d[1], d[2]);
+            for (s, v) in sums
+                .iter_mut()
+                .zip([x * x, x * y, x * z, y * y, y * z, z * z])
+            {
+                *s += v;
+            }
         }
-        cov /= n;
+        let [xx, xy, xz, yy, yz, zz] = sums;
+        let cov = Matrix3::new(xx, xy, xz, xy, yy, yz, xz, yz, zz) / n;
         let eigen = SymmetricEigen::new(cov);
         let mut order = [0usize, 1, 2];
         order.sort_by(|&a, &b| eigen.eigenvalues[b].total_cmp(&eigen.eigenvalues[a]));

@@ -109,8 +109,10 @@ fn clean(mut ring: Vec<[f64; 2]>) -> Vec<[f64; 2]> {
 /// Whether segment `[a, b]` meets the closed box `[lo, hi]`.
 #[inline]
 pub(crate) fn segment_meets_box(a: [f64; 2], b: [f64; 2], lo: [f64; 2], hi: [f64; 2]) -> bool {
+    // Both ends beyond one side of the box: no contact (comparisons rather than `max` and
+    // `min`, whose NaN handling costs several instructions; coordinates are finite).
     for k in 0..2 {
-        if a[k].max(b[k]) < lo[k] || a[k].min(b[k]) > hi[k] {
+        if (a[k] < lo[k] && b[k] < lo[k]) || (a[k] > hi[k] && b[k] > hi[k]) {
             return false;
         }
     }
