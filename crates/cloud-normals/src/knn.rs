@@ -2,6 +2,11 @@
 //! queries of one cell share the points of the 3 × 3 × 3 block of cells around it,
 //! gathered once (for points on surfaces this is several times faster than a general k-d
 //! tree); a query whose k-th neighbour may lie beyond the block goes on ring by ring.
+//!
+//! Hostile clouds stay near linear: the cells span the points' robust extent (far
+//! outliers lie in the border cells), copies of one position count as candidates `k`
+//! times at most, and a ring search that would look up more cells than are occupied
+//! visits the occupied ones instead.
 
 use rayon::prelude::*;
 
@@ -156,8 +161,9 @@ const TAIL: f64 = 1e-3;
 const BOUNDS_SAMPLE: usize = 1 << 16;
 
 /// Points sorted by cubic cell: cell `keys[c]` holds `order[starts[c]..starts[c + 1]]`,
-/// of which the first `live[c]` are its candidates: all but the copies of one position
-/// beyond its `k` of lowest index, which are never among the `k` nearest of any point.
+/// of which the first `live[c]` are its candidates: in a cell of more than `2k` points, all
+/// but the copies of one position beyond its `k` of lowest index, which are never among
+/// the `k` nearest of any point.
 struct Grid {
     min: [f64; 3],
     size: f64,
@@ -433,9 +439,10 @@ fn bounds(points: &[[f64; 3]]) -> ([f64; 3], [f64; 3], f64) {
 }
 
 /// Moves the copies of one position beyond the `k` of lowest index to the end of `cell`
-/// (its entries `(key, index)`); returns how many entries come before them.
+/// (its entries `(key, index)`); returns how many entries come before them. A cell of
+/// at most `2k` points is left as it is (capping it saves little and costs a sort).
 fn cap_copies(cell: &mut [(u64, u32)], points: &[[f64; 3]], k: usize) -> u32 {
-    if cell.len() <= k {
+    if cell.len() <= 2 * k {
         return cell.len() as u32;
     }
     let bits = |i: u32| points[i as usize].map(f64::to_bits);
