@@ -332,17 +332,24 @@ impl Polylidar {
             .map(|d| {
                 let mut d = d;
                 for _ in 0..2 {
+                    // Summed in fixed chunks, in order: the same bits on every run and
+                    // thread count (rayon's `reduce` groups by how work was stolen).
+                    let add = |a: [f64; 3], b: [f64; 3]| [a[0] + b[0], a[1] + b[1], a[2] + b[2]];
                     let sum = normals
-                        .par_iter()
-                        .map(|n| {
-                            let c = dot(*n, d);
-                            if c.abs() >= near {
-                                n.map(|v| v * c.signum())
-                            } else {
-                                [0.0; 3]
-                            }
+                        .par_chunks(SUM_CHUNK)
+                        .map(|chunk| {
+                            chunk.iter().fold([0.0; 3], |sum, n| {
+                                let c = dot(*n, d);
+                                if c.abs() >= near {
+                                    add(sum, n.map(|v| v * c.signum()))
+                                } else {
+                                    sum
+                                }
+                            })
                         })
-                        .reduce(|| [0.0; 3], |a, b| [a[0] + b[0], a[1] + b[1], a[2] + b[2]]);
+                        .collect::<Vec<_>>()
+                        .into_iter()
+                        .fold([0.0; 3], add);
                     let len = dot(sum, sum).sqrt();
                     if len > 0.0 {
                         d = sum.map(|v| v / len);
@@ -747,6 +754,9 @@ fn find(parent: &mut [u32], mut x: u32) -> u32 {
     }
     x
 }
+
+/// Normals per partial sum when a direction is refined.
+const SUM_CHUNK: usize = 8192;
 
 /// No direction (a point whose normal agrees with none).
 const NO_DIRECTION: u32 = u32::MAX;

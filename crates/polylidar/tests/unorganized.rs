@@ -117,6 +117,28 @@ fn a_box_room_gives_six_planes_with_the_door_as_a_hole() {
 }
 
 #[test]
+fn the_directions_and_labels_do_not_depend_on_the_thread_count() {
+    // The directions are refined by sums over all normals: summed in fixed chunks, their
+    // bits (and so every label) are the same on 1, 2 or 3 threads.
+    let (points, _) = sample(&box_room(), 60_000, 0.003, 3);
+    let run = |threads: usize| {
+        Polylidar::new(room_config().with_threads(threads))
+            .unwrap()
+            .extract_unorganized(&points, None)
+            .unwrap()
+    };
+    let one = run(1);
+    for threads in [2, 3] {
+        let other = run(threads);
+        assert_eq!(
+            other.dominant_normals, one.dominant_normals,
+            "{threads} threads"
+        );
+        assert_eq!(other.fitted, one.fitted, "{threads} threads");
+    }
+}
+
+#[test]
 fn a_gabled_roof_is_two_sloped_planes() {
     // Ridge along x at z = 5 over y = 0; 45° slopes down to z = 3 at y = ±2; ground z = 0.
     let mut scene = Scene::new();
