@@ -585,9 +585,16 @@ impl Pieces<'_> {
         for (p, result) in built {
             meshes[p] = result?;
         }
-        let mut triangles = Vec::new();
-        let mut halfedges = Vec::new();
-        let mut normals = Vec::new();
+        // Sized up front: grown piece by piece, the arrays were copied into fresh pages
+        // again and again.
+        let total: usize = meshes
+            .iter()
+            .flatten()
+            .map(|(mesh, _)| mesh.triangles().len())
+            .sum();
+        let mut triangles = Vec::with_capacity(total);
+        let mut halfedges = Vec::with_capacity(3 * total);
+        let mut normals = Vec::with_capacity(total);
         let mut duplicates = 0;
         for ((_, members), mesh) in pieces.iter().zip(meshes) {
             let Some((mesh, dup)) = mesh else { continue };
