@@ -183,7 +183,6 @@ fn grow_all(
                             let grown = crate::refine::Grown {
                                 group: g as u32,
                                 triangles: region.triangles.clone(),
-                                boundary: region.boundary.clone(),
                             };
                             let _ = sender.send(Outcome::Region(grown));
                             continue;
@@ -229,13 +228,14 @@ fn grow_all(
         counts.free_planes = refined.free_planes;
         counts.merged = refined.merged;
         same_plane = refined.same_plane;
-        let (labels, planes) = (&refined.labels, &refined.planes);
+        let planes = &refined.planes;
         results = refined
             .segments
             .into_par_iter()
+            .zip(refined.boundaries)
             .enumerate()
-            .map(|(s, (g, triangles))| {
-                grower.refined_polygon(g, triangles, planes[s], (labels, s as u32))
+            .map(|(s, ((g, triangles), boundary))| {
+                grower.refined_polygon(g, triangles, boundary, planes[s])
             })
             .collect();
     }
@@ -362,25 +362,16 @@ impl Grower<'_> {
     }
 
     /// The polygon of a refined segment (group `g`, or `NO_GROUP` for a plane no
-    /// dominant normal explains; its plane as refinement fitted it; `label` in the
-    /// per-triangle `labels`): its boundary half-edges and polygon.
+    /// dominant normal explains; its boundary half-edges and its plane as refinement
+    /// found them).
     fn refined_polygon(
         &self,
         g: u32,
         triangles: Vec<u32>,
+        boundary: Vec<u32>,
         (normal, centroid): ([f64; 3], [f64; 3]),
-        (labels, label): (&[u32], u32),
     ) -> Result<PlanarSegment, (u32, u32, SegmentError)> {
         let seed = triangles.iter().min().copied().unwrap_or(0);
-        let twins = self.mesh.halfedges();
-        let boundary: Vec<u32> = triangles
-            .iter()
-            .flat_map(|&t| 3 * t..3 * t + 3)
-            .filter(|&h| match twins[h as usize] {
-                NO_TWIN => true,
-                twin => labels[(twin / 3) as usize] != label,
-            })
-            .collect();
         let region = Region {
             triangles,
             boundary,

@@ -221,9 +221,6 @@ pub(crate) struct Grown {
     pub group: u32,
     /// Its triangles.
     pub triangles: Vec<u32>,
-    /// Its boundary half-edges (twin outside the segment or missing): where absorption
-    /// starts.
-    pub boundary: Vec<u32>,
 }
 
 /// The segments after refinement: each a list of triangles and the group it came from
@@ -232,8 +229,9 @@ pub(crate) struct Refined {
     pub segments: Vec<(u32, Vec<u32>)>,
     /// Per segment, its plane's unit normal and area-weighted centroid.
     pub planes: Vec<([f64; 3], [f64; 3])>,
-    /// Per triangle, the index of its segment in `segments`, or `NONE`.
-    pub labels: Vec<u32>,
+    /// Per segment, its boundary half-edges (twin in another segment, free or missing),
+    /// in index order.
+    pub boundaries: Vec<Vec<u32>>,
     /// Per segment, the first segment on the same plane (see [`coplanar`]).
     pub same_plane: Vec<u32>,
     /// Free triangles absorbed into a segment.
@@ -291,6 +289,14 @@ impl Mesh<'_> {
         })
     }
 
+    /// Whether the normal of `t` is within `norm_thresh` of all three neighbours'.
+    fn smooth(&self, t: u32) -> bool {
+        let normal = self.normals[t as usize];
+        self.neighbours(t)
+            .iter()
+            .all(|&u| u != NONE && dot(self.normals[u as usize], normal) >= self.norm_thresh)
+    }
+
     /// Whether free triangle `t` may join a segment on `plane`: [`Self::usable`], its
     /// normal within [`ABSORB_COS`] of the plane's and its corners within `z_thresh` of it.
     /// The normal is tested first (a NaN normal fails it too), so that most triangles of
@@ -306,31 +312,6 @@ impl Mesh<'_> {
                 .iter()
                 .all(|&p| plane.distance(p).abs() <= self.z_thresh)
     }
-
-    fn sums(&self, triangles: &[u32]) -> PlaneSums {
-        let mut sums = PlaneSums::default();
-        for &t in triangles {
-            sums.add_triangle(self.corners(t));
-        }
-        sums
-    }
-
-    /// [`Self::sums`] of each segment, chunks of every segment in parallel (one large
-    /// segment, the floor, would otherwise keep one thread busy), added up in a fixed order
-    /// so that the result does not depend on the thread count.
-    fn sums_of(&self, segments: &[Grown]) -> Vec<PlaneSums> {
-        let chunks: Vec<(usize, &[u32])> = segments
-            .iter()
-            .enumerate()
-            .flat_map(|(s, g)| g.triangles.chunks(SUMS_CHUNK).map(move |c| (s, c)))
-            .collect();
-        let parts: Vec<PlaneSums> = chunks.par_iter().map(|&(_, c)| self.sums(c)).collect();
-        let mut sums = vec![PlaneSums::default(); segments.len()];
-        for (&(s, _), part) in chunks.iter().zip(&parts) {
-            sums[s] = sums[s].merged(part);
-        }
-        sums
-    }
 }
 
 /// Refines the segments grown by dominant normal (`grown`: group and triangles, each of
@@ -342,14 +323,24 @@ pub(crate) fn refine(
     config: &SegmentationConfig,
 ) -> Refined {
     let Some(normals) = mesh.triangle_normals() else {
+        let mut labels = vec![NONE; mesh.num_triangles()];
+        for (s, g) in grown.iter().enumerate() {
+            for &t in &g.triangles {
+                labels[t as usize] = s as u32;
+            }
+        }
+        let all: Vec<u32> = grown
+            .iter()
+            .flat_map(|g| g.triangles.iter().copied())
+            .collect();
         return Refined {
+            boundaries: boundaries(mesh.halfedges(), &labels, &all, grown.len()),
             planes: grown
                 .iter()
                 .map(|g| crate::geometric_plane(mesh, &g.triangles))
                 .collect(),
             same_plane: (0..grown.len() as u32).collect(),
             segments: grown.into_iter().map(|g| (g.group, g.triangles)).collect(),
-            labels: Vec::new(),
             absorbed: 0,
             free_planes: 0,
             merged: 0,
@@ -372,44 +363,39 @@ pub(crate) fn refine(
         },
         norm_thresh: config.norm_thresh,
     };
-    let n = mesh.num_triangles();
-    let mut labels = vec![NONE; n];
+    let mut labels = vec![NONE; mesh.num_triangles()];
     for (s, g) in grown.iter().enumerate() {
         for &t in &g.triangles {
             labels[t as usize] = s as u32;
         }
     }
-    let mut sums = m.sums_of(&grown);
-    let seeds: Vec<u32> = grown
-        .iter()
-        .flat_map(|g| g.boundary.iter().map(|&h| h / 3))
-        .filter(|&t| {
-            m.neighbours(t)
-                .iter()
-                .any(|&u| u != NONE && labels[u as usize] == NONE)
-        })
-        .collect();
+    let survey = Survey::of(&m, &labels, grown.len());
+    let grown_planes: Vec<Option<Plane>> = survey.sums.iter().map(PlaneSums::plane).collect();
+    let seeds = survey.edges;
     let mut segments: Vec<(u32, Vec<u32>)> =
         grown.into_iter().map(|g| (g.group, g.triangles)).collect();
-    let mut absorbed = absorb(&m, &mut labels, &mut segments, &mut sums, seeds);
+    let mut absorbed = absorb(&m, &mut labels, &mut segments, &grown_planes, seeds);
     let first_new = segments.len();
     let big_enough = |triangles: usize, sums: &PlaneSums| {
         triangles >= config.min_triangles.max(1)
             || (config.min_area > 0.0 && triangles >= 3 && sums.area() >= config.min_area)
     };
-    grow_free(&m, &mut labels, &mut segments, &mut sums, &big_enough);
+    // Absorption from the new segments reads only their planes.
+    let mut planes = grown_planes;
+    planes.extend(grow_free(&m, &mut labels, &mut segments, &big_enough));
     let free_planes = segments.len() - first_new;
     let seeds = segments[first_new..]
         .iter()
         .flat_map(|(_, tris)| tris.iter().copied())
         .collect();
-    absorbed += absorb(&m, &mut labels, &mut segments, &mut sums, seeds);
+    absorbed += absorb(&m, &mut labels, &mut segments, &planes, seeds);
     let before = segments.len();
     let Merged {
         segments,
         sums,
         interior: inside,
-    } = merge(&m, &mut labels, segments, sums);
+        edges,
+    } = merge(&m, &mut labels, segments);
     let merged = before - segments.len();
     let kept: Vec<bool> = segments
         .iter()
@@ -436,6 +422,7 @@ pub(crate) fn refine(
         }
     }
     relabel(&mut labels, &index);
+    let boundaries = boundaries(m.twins, &labels, &edges, kept_segments.len());
     let kept_sums: Vec<PlaneSums> = sums
         .into_iter()
         .zip(&kept)
@@ -445,7 +432,7 @@ pub(crate) fn refine(
     Refined {
         segments: kept_segments,
         planes,
-        labels,
+        boundaries,
         same_plane: coplanar(&kept_sums, config.z_thresh, config.norm_thresh),
         absorbed,
         free_planes,
@@ -453,18 +440,35 @@ pub(crate) fn refine(
     }
 }
 
+/// The boundary half-edges of segments `0..count` (twin in another segment, free or
+/// missing) from the `candidates` that may be on one (each once), in their order.
+fn boundaries(twins: &[u32], labels: &[u32], candidates: &[u32], count: usize) -> Vec<Vec<u32>> {
+    let mut boundaries = vec![Vec::new(); count];
+    for &t in candidates {
+        let a = labels[t as usize];
+        let Some(boundary) = boundaries.get_mut(a as usize) else {
+            continue;
+        };
+        for h in 3 * t..3 * t + 3 {
+            let twin = twins[h as usize];
+            if twin == NO_TWIN || labels[(twin / 3) as usize] != a {
+                boundary.push(h);
+            }
+        }
+    }
+    boundaries
+}
+
 /// Breadth-first absorption of free usable triangles into the segments of the `seeds`
-/// triangles (segment triangles next to free ones), each against its plane as `sums`
-/// give it when the pass starts; the absorbed triangles are added to `sums`. Returns how
-/// many joined.
+/// triangles (segment triangles on a segment's edge), each against its segment's entry of
+/// `planes` (the plane when the pass starts). Returns how many joined.
 fn absorb(
     m: &Mesh<'_>,
     labels: &mut [u32],
     segments: &mut [(u32, Vec<u32>)],
-    sums: &mut [PlaneSums],
+    planes: &[Option<Plane>],
     queue: Vec<u32>,
 ) -> usize {
-    let planes: Vec<Option<Plane>> = sums.iter().map(PlaneSums::plane).collect();
     let mut absorbed = 0;
     // Level by level: the triangles that fit, found in parallel, then claimed in the order
     // of the level (first come, first served, as a first-in first-out queue would).
@@ -496,7 +500,6 @@ fn absorb(
             }
             labels[u as usize] = s;
             segments[s as usize].1.push(u);
-            sums[s as usize].add_triangle(m.corners(u));
             level.push(u);
             absorbed += 1;
         }
@@ -505,28 +508,33 @@ fn absorb(
 }
 
 /// Grows the free usable triangles into new segments by their running plane; regions that
-/// are `big_enough` are appended to `segments` (group [`NO_GROUP`]) and their sums to
-/// `all_sums`.
+/// are `big_enough` are appended to `segments` (group [`NO_GROUP`]). Returns their planes.
 fn grow_free(
     m: &Mesh<'_>,
     labels: &mut [u32],
     segments: &mut Vec<(u32, Vec<u32>)>,
-    all_sums: &mut Vec<PlaneSums>,
     big_enough: &impl Fn(usize, &PlaneSums) -> bool,
-) {
+) -> Vec<Option<Plane>> {
+    let mut planes = Vec::new();
     // Triangles a rejected region visited; they may still be absorbed, but seed no more.
     const VISITED: u32 = NONE - 1;
+    // Seeds are found in parallel, then grown in index order; growing only takes triangles,
+    // so a seed taken meanwhile is skipped.
+    let seeds: Vec<Vec<u32>> = labels
+        .par_chunks(TRIANGLE_CHUNK)
+        .enumerate()
+        .map(|(c, chunk)| {
+            let first = c * TRIANGLE_CHUNK;
+            (0..chunk.len())
+                .filter(|&i| chunk[i] == NONE)
+                .map(|i| (first + i) as u32)
+                .filter(|&t| m.usable(t) && m.smooth(t))
+                .collect()
+        })
+        .collect();
     let mut region: Vec<u32> = Vec::new();
-    for seed in 0..labels.len() as u32 {
-        if labels[seed as usize] != NONE || !m.usable(seed) {
-            continue;
-        }
-        let normal = m.normals[seed as usize];
-        let smooth = m
-            .neighbours(seed)
-            .iter()
-            .all(|&u| u != NONE && dot(m.normals[u as usize], normal) >= m.norm_thresh);
-        if !smooth {
+    for seed in seeds.into_iter().flatten() {
+        if labels[seed as usize] != NONE {
             continue;
         }
         let id = segments.len() as u32;
@@ -553,7 +561,7 @@ fn grow_free(
         }
         if big_enough(region.len(), &sums) {
             segments.push((NO_GROUP, region.clone()));
-            all_sums.push(sums);
+            planes.push(sums.plane());
         } else {
             for &t in &region {
                 labels[t as usize] = VISITED;
@@ -565,33 +573,19 @@ fn grow_free(
             *label = NONE;
         }
     }
+    planes
 }
 
 /// Merges segments that share an edge and fit one plane (see the module docs).
-fn merge(
-    m: &Mesh<'_>,
-    labels: &mut [u32],
-    segments: Vec<(u32, Vec<u32>)>,
-    mut sums: Vec<PlaneSums>,
-) -> Merged {
-    // Interior triangles (all neighbours in the same segment) per segment, counted in the
-    // same pass; triangles on a segment's edge may become interior by merging, and are
-    // looked at again afterwards. Chunks of triangles in parallel, joined in order.
-    let chunks: Vec<Adjacency> = labels
-        .par_chunks(ADJACENCY_CHUNK)
-        .enumerate()
-        .map(|(c, chunk)| adjacency(m, labels, c * ADJACENCY_CHUNK, chunk, segments.len()))
-        .collect();
-    let mut pairs: Vec<(u32, u32)> = Vec::new();
-    let mut interior = vec![0usize; segments.len()];
-    let mut edges: Vec<u32> = Vec::new();
-    for chunk in chunks {
-        pairs.extend(chunk.pairs);
-        edges.extend(chunk.edges);
-        for (total, part) in interior.iter_mut().zip(chunk.interior) {
-            *total += part;
-        }
-    }
+fn merge(m: &Mesh<'_>, labels: &mut [u32], segments: Vec<(u32, Vec<u32>)>) -> Merged {
+    // Triangles on a segment's edge may become interior by merging, and are looked at
+    // again afterwards.
+    let Survey {
+        mut pairs,
+        interior,
+        mut edges,
+        mut sums,
+    } = Survey::of(m, labels, segments.len());
     pairs.sort_unstable();
     let mut counted: Vec<(usize, u32, u32)> = Vec::new();
     for &(a, b) in &pairs {
@@ -661,15 +655,17 @@ fn merge(
         merged_interior[index[s as usize] as usize] += interior[s as usize];
     }
     relabel(labels, &index);
-    for t in edges {
+    edges.retain(|&t| {
         let a = labels[t as usize];
-        if m.neighbours(t)
+        let inside = m
+            .neighbours(t)
             .iter()
-            .all(|&u| u != NONE && labels[u as usize] == a)
-        {
+            .all(|&u| u != NONE && labels[u as usize] == a);
+        if inside {
             merged_interior[a as usize] += 1;
         }
-    }
+        !inside
+    });
     let kept_sums = out
         .iter()
         .zip(sums)
@@ -680,6 +676,7 @@ fn merge(
         segments: out.into_iter().flatten().collect(),
         sums: kept_sums,
         interior: merged_interior,
+        edges,
     }
 }
 
@@ -721,68 +718,95 @@ fn prefetch_ahead(m: &Mesh<'_>, labels: &[u32], level: &[u32], i: usize) {
     }
 }
 
-/// Triangles per task of [`Mesh::sums_of`].
-const SUMS_CHUNK: usize = 8192;
+/// Triangles per task of the passes over all triangles ([`Survey::of`], the seed search of
+/// [`grow_free`], [`relabel`]).
+const TRIANGLE_CHUNK: usize = 16_384;
 
-/// Triangles per task of the adjacency pass of [`merge`].
-const ADJACENCY_CHUNK: usize = 16_384;
-
-/// What the triangles of one chunk say about the segments: the pairs of segments that
-/// share an edge (once per shared edge, lower label first), interior triangles per
-/// segment, and the labelled triangles on a segment's edge.
-struct Adjacency {
+/// What one pass over the labelled triangles says about segments `0..count`.
+struct Survey {
+    /// The pairs of segments that share an edge, once per shared edge, lower label first.
     pairs: Vec<(u32, u32)>,
+    /// Interior triangles (all three neighbours in the same segment) per segment.
     interior: Vec<usize>,
+    /// The labelled triangles on a segment's edge, in index order.
     edges: Vec<u32>,
+    /// Plane sums per segment.
+    sums: Vec<PlaneSums>,
 }
 
-/// [`Adjacency`] of the triangles `first..first + chunk.len()` (`chunk` their labels).
-fn adjacency(
-    m: &Mesh<'_>,
-    labels: &[u32],
-    first: usize,
-    chunk: &[u32],
-    segments: usize,
-) -> Adjacency {
-    let mut out = Adjacency {
-        pairs: Vec::new(),
-        interior: vec![0; segments],
-        edges: Vec::new(),
-    };
-    for (i, &a) in chunk.iter().enumerate() {
-        if a == NONE {
-            continue;
-        }
-        let t = (first + i) as u32;
-        let mut inside = true;
-        for u in m.neighbours(t) {
-            let b = if u == NONE { NONE } else { labels[u as usize] };
-            inside &= b == a;
-            if b != NONE && a < b {
-                out.pairs.push((a, b));
+impl Survey {
+    /// Chunks of triangles in index order in parallel (reading the mesh front to back),
+    /// joined in chunk order, so that the result does not depend on the thread count.
+    fn of(m: &Mesh<'_>, labels: &[u32], count: usize) -> Self {
+        let chunks: Vec<Self> = labels
+            .par_chunks(TRIANGLE_CHUNK)
+            .enumerate()
+            .map(|(c, chunk)| Self::of_chunk(m, labels, c * TRIANGLE_CHUNK, chunk, count))
+            .collect();
+        let mut total = Self::empty(count);
+        for chunk in chunks {
+            total.pairs.extend(chunk.pairs);
+            total.edges.extend(chunk.edges);
+            for (sum, part) in total.interior.iter_mut().zip(chunk.interior) {
+                *sum += part;
+            }
+            for (sum, part) in total.sums.iter_mut().zip(&chunk.sums) {
+                *sum = sum.merged(part);
             }
         }
-        if inside {
-            out.interior[a as usize] += 1;
-        } else {
-            out.edges.push(t);
+        total
+    }
+
+    fn empty(count: usize) -> Self {
+        Self {
+            pairs: Vec::new(),
+            interior: vec![0; count],
+            edges: Vec::new(),
+            sums: vec![PlaneSums::default(); count],
         }
     }
-    out
+
+    /// The survey of the triangles `first..first + chunk.len()` (`chunk` their labels).
+    fn of_chunk(m: &Mesh<'_>, labels: &[u32], first: usize, chunk: &[u32], count: usize) -> Self {
+        let mut out = Self::empty(count);
+        for (i, &a) in chunk.iter().enumerate() {
+            if a == NONE {
+                continue;
+            }
+            let t = (first + i) as u32;
+            out.sums[a as usize].add_triangle(m.corners(t));
+            let mut inside = true;
+            for u in m.neighbours(t) {
+                let b = if u == NONE { NONE } else { labels[u as usize] };
+                inside &= b == a;
+                if b != NONE && a < b {
+                    out.pairs.push((a, b));
+                }
+            }
+            if inside {
+                out.interior[a as usize] += 1;
+            } else {
+                out.edges.push(t);
+            }
+        }
+        out
+    }
 }
 
-/// The segments after merging, their plane sums and how many interior triangles each has.
+/// The segments after merging, their plane sums, how many interior triangles each has,
+/// and the triangles on a segment's edge (in index order).
 struct Merged {
     segments: Vec<(u32, Vec<u32>)>,
     sums: Vec<PlaneSums>,
     interior: Vec<usize>,
+    edges: Vec<u32>,
 }
 
 /// Replaces every segment label `s` by `index[s]`, in one pass over the triangles.
 fn relabel(labels: &mut [u32], index: &[u32]) {
     labels
         .par_iter_mut()
-        .with_min_len(ADJACENCY_CHUNK)
+        .with_min_len(TRIANGLE_CHUNK)
         .filter(|l| **l != NONE)
         .for_each(|label| *label = index[*label as usize]);
 }
