@@ -283,10 +283,11 @@ impl Mesh<'_> {
     #[inline]
     fn neighbours(&self, t: u32) -> [u32; 3] {
         let h = 3 * t as usize;
-        [0, 1, 2].map(|k| match self.twins[h + k] {
-            NO_TWIN => NONE,
-            twin => twin / 3,
-        })
+        let twins: [u32; 3] = match self.twins.get(h..h + 3) {
+            Some(&[a, b, c]) => [a, b, c],
+            _ => [NO_TWIN; 3],
+        };
+        twins.map(|twin| if twin == NO_TWIN { NONE } else { twin / 3 })
     }
 
     /// Whether the normal of `t` is within `norm_thresh` of all three neighbours'.
@@ -778,9 +779,11 @@ impl Survey {
             let mut inside = true;
             for u in m.neighbours(t) {
                 let b = if u == NONE { NONE } else { labels[u as usize] };
-                inside &= b == a;
-                if b != NONE && a < b {
-                    out.pairs.push((a, b));
+                if b != a {
+                    inside = false;
+                    if b != NONE && a < b {
+                        out.pairs.push((a, b));
+                    }
                 }
             }
             if inside {
