@@ -43,12 +43,14 @@ pub struct PlaneFrame {
 impl PlaneFrame {
     /// The frame of the direction `normal` (normalised here), origin at zero; `None` when
     /// `normal` is zero or not finite.
+    #[inline]
     pub fn new(normal: Vec3) -> Option<Self> {
         unit(normal).map(Self::from_unit_normal)
     }
 
     /// The frame of the unit vector `normal` (trusted to be unit; see [`Self::new`]),
     /// origin at zero, built by the convention in the type's documentation.
+    #[inline]
     pub fn from_unit_normal(normal: Vec3) -> Self {
         let n = normal;
         let axis = if n[0].abs() <= n[1].abs() && n[0].abs() <= n[2].abs() {
@@ -71,6 +73,7 @@ impl PlaneFrame {
 
     /// The same axes with 2D coordinates measured from `origin` (a point on the plane;
     /// near the data keeps the coordinates small and precise).
+    #[inline]
     #[must_use]
     pub fn with_origin(self, origin: Vec3) -> Self {
         Self { origin, ..self }

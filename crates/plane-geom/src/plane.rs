@@ -37,6 +37,7 @@ impl Plane {
     /// # Errors
     /// [`PlaneError::BadPoint`] if `point` is not finite, [`PlaneError::BadNormal`] if
     /// `normal` is zero or not finite.
+    #[inline]
     pub fn from_normal_and_point(normal: Vec3, point: Vec3) -> Result<Self, PlaneError> {
         if !point.iter().all(|c| c.is_finite()) {
             return Err(PlaneError::BadPoint { point });
@@ -47,6 +48,7 @@ impl Plane {
 
     /// The plane through `point` with the unit normal `normal`, taken as given (not
     /// checked nor normalised; see [`Self::from_normal_and_point`]).
+    #[inline]
     pub fn from_unit_normal(normal: Vec3, point: Vec3) -> Self {
         Self {
             normal,
@@ -62,11 +64,13 @@ impl Plane {
     }
 
     /// Orthogonal projection of `p` onto the plane.
+    #[inline]
     pub fn project(&self, p: Vec3) -> Vec3 {
         sub(p, scale(self.normal, self.signed_distance(p)))
     }
 
     /// The same plane with the opposite orientation.
+    #[inline]
     #[must_use]
     pub fn flipped(&self) -> Self {
         Self {
@@ -78,6 +82,7 @@ impl Plane {
 
     /// The same plane, oriented so that `normal · hint >= 0` (e.g. a hint pointing
     /// towards the sensor). A hint orthogonal to the normal leaves it unchanged.
+    #[inline]
     #[must_use]
     pub fn oriented_toward(&self, hint: Vec3) -> Self {
         if dot(self.normal, hint) < 0.0 {
@@ -89,6 +94,7 @@ impl Plane {
 
     /// The plane's [`PlaneFrame`] (the workspace convention for its axes), with the
     /// 2D origin at the centroid projected onto the plane.
+    #[inline]
     pub fn frame(&self) -> PlaneFrame {
         PlaneFrame::from_unit_normal(self.normal).with_origin(self.project(self.centroid))
     }

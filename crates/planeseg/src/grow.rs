@@ -5,6 +5,7 @@ use std::sync::atomic::Ordering::Relaxed;
 use std::sync::mpsc;
 
 use halfedge_mesh::{HalfEdgeMesh, NO_TWIN};
+use plane_geom::PlaneFrame;
 use polyextract::{Extractor, Polygon};
 use rayon::prelude::*;
 
@@ -402,11 +403,10 @@ impl Grower<'_> {
         centroid: [f64; 3],
     ) -> Result<PlanarSegment, (u32, u32, SegmentError)> {
         let v = self.mesh.vertices();
-        let (e1, e2) = plane_axes(normal);
+        let frame = PlaneFrame::from_unit_normal(normal);
         let mut polygon = Extractor::new()
             .extract_boundary(self.mesh, &region.boundary, |i| {
-                let p = v[i as usize];
-                [dot(p, e1), dot(p, e2)]
+                frame.project(v[i as usize])
             })
             .map_err(|source| (g, seed, SegmentError::Extract { seed, source }))?;
         let before = polygon.holes.len();
@@ -518,19 +518,4 @@ fn boundary_plane(
         scale(add(moment_n, scale(normal, volume)), 1.0 / (3.0 * total)),
     );
     (normal, centroid)
-}
-
-/// Two unit vectors completing the unit `n` to a right-handed orthonormal frame.
-fn plane_axes(n: [f64; 3]) -> ([f64; 3], [f64; 3]) {
-    let axis = if n[0].abs() <= n[1].abs() && n[0].abs() <= n[2].abs() {
-        [1.0, 0.0, 0.0]
-    } else if n[1].abs() <= n[2].abs() {
-        [0.0, 1.0, 0.0]
-    } else {
-        [0.0, 0.0, 1.0]
-    };
-    let e1 = sub(axis, scale(n, dot(axis, n)));
-    let e1 = scale(e1, 1.0 / dot(e1, e1).sqrt());
-    let e2 = cross(n, e1);
-    (e1, e2)
 }
