@@ -1,5 +1,7 @@
 //! Delaunay triangulation of 2D point sets and of 3D clouds projected on a plane (2.5D).
 
+use plane_geom::PlaneFrame;
+
 use crate::{HalfEdgeMesh, MeshError, sweep};
 
 /// Summary of a triangulation: points left out because they coincide with another.
@@ -74,62 +76,13 @@ impl HalfEdgeMesh {
         points: &[[f64; 3]],
         up: [f64; 3],
     ) -> Result<(Self, DelaunayReport), MeshError> {
-        let frame = PlaneFrame::new(up)?;
+        // Projecting on the frame's (e1, e2) looks down `up`; for up = +z it is (x, y).
+        let frame = PlaneFrame::new(up).ok_or(MeshError::BadUpVector { up })?;
         let (triangles, halfedges, report) =
             triangulate(points.len(), |i| frame.project(points[i]))?;
         let mut mesh = Self::from_parts_trusted(points.to_vec(), triangles, halfedges, Vec::new());
         mesh.compute_triangle_normals();
         Ok((mesh, report))
-    }
-}
-
-/// An orthonormal frame `(e1, e2, up)`: projecting on `(e1, e2)` looks down `up`.
-#[derive(Debug, Clone, Copy)]
-struct PlaneFrame {
-    e1: [f64; 3],
-    e2: [f64; 3],
-}
-
-impl PlaneFrame {
-    fn new(up: [f64; 3]) -> Result<Self, MeshError> {
-        let len = (up[0] * up[0] + up[1] * up[1] + up[2] * up[2]).sqrt();
-        if !len.is_finite() || len == 0.0 {
-            return Err(MeshError::BadUpVector { up });
-        }
-        let n = up.map(|c| c / len);
-        // Pick the world axis least aligned with n to start e1 (Gram–Schmidt).
-        let axis = if n[0].abs() <= n[1].abs() && n[0].abs() <= n[2].abs() {
-            [1.0, 0.0, 0.0]
-        } else if n[1].abs() <= n[2].abs() {
-            [0.0, 1.0, 0.0]
-        } else {
-            [0.0, 0.0, 1.0]
-        };
-        let d = axis[0] * n[0] + axis[1] * n[1] + axis[2] * n[2];
-        let e1 = [axis[0] - d * n[0], axis[1] - d * n[1], axis[2] - d * n[2]];
-        let l1 = (e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]).sqrt();
-        let e1 = e1.map(|c| c / l1);
-        let e2 = [
-            n[1] * e1[2] - n[2] * e1[1],
-            n[2] * e1[0] - n[0] * e1[2],
-            n[0] * e1[1] - n[1] * e1[0],
-        ];
-        // For up = +z keep the identity so that 2.5D on xy is exactly the xy triangulation.
-        if n == [0.0, 0.0, 1.0] {
-            return Ok(Self {
-                e1: [1.0, 0.0, 0.0],
-                e2: [0.0, 1.0, 0.0],
-            });
-        }
-        Ok(Self { e1, e2 })
-    }
-
-    #[inline]
-    fn project(&self, p: [f64; 3]) -> [f64; 2] {
-        [
-            p[0] * self.e1[0] + p[1] * self.e1[1] + p[2] * self.e1[2],
-            p[0] * self.e2[0] + p[1] * self.e2[1] + p[2] * self.e2[2],
-        ]
     }
 }
 
