@@ -208,6 +208,7 @@ fn invalid_configurations_are_rejected() {
     for preset in [
         FastGaConfig::rgbd(),
         FastGaConfig::synpeb(),
+        FastGaConfig::synpeb_benchmark(),
         FastGaConfig::mesh(),
     ] {
         preset.validate().unwrap();

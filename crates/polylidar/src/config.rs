@@ -9,6 +9,69 @@ use serde::{Deserialize, Serialize};
 
 use crate::{BeamOutlierSection, FieldOfViewSection, PolylidarError, ScanSection};
 
+/// `with_<field>` builders, one per listed field, each documented as setting it: the
+/// configuration structs are `#[non_exhaustive]`, so code outside this crate builds them
+/// from `Default` through these.
+macro_rules! setters {
+    ($ty:ty { $($setter:ident => $field:ident: $t:ty),* $(,)? }) => {
+        impl $ty {
+            $(
+                #[doc = concat!("Sets [`Self::", stringify!($field), "`].")]
+                #[must_use]
+                pub fn $setter(mut self, $field: $t) -> Self {
+                    self.$field = $field;
+                    self
+                }
+            )*
+        }
+    };
+}
+pub(crate) use setters;
+
+setters!(Config {
+    with_min_area => min_area: f64,
+    with_refine => refine: bool,
+    with_scan => scan: Option<ScanSection>,
+});
+
+setters!(FillConfig {
+    with_min_neighbours => min_neighbours: u8,
+    with_max_spread => max_spread: f64,
+});
+
+setters!(LaplacianConfig {
+    with_kernel => kernel: u32,
+    with_lambda => lambda: f32,
+    with_iterations => iterations: LaplacianIterations,
+    with_range_exponent => range_exponent: f64,
+    with_backend => backend: SmoothingBackend,
+});
+
+setters!(BilateralConfig {
+    with_kernel => kernel: u32,
+    with_sigma_length => sigma_length: f32,
+    with_sigma_angle => sigma_angle: f32,
+    with_iterations => iterations: u32,
+    with_backend => backend: SmoothingBackend,
+});
+
+setters!(FastGaSection {
+    with_level => level: u32,
+    with_sample_fraction => sample_fraction: f64,
+    with_min_samples => min_samples: usize,
+    with_value_threshold => value_threshold: f64,
+    with_cluster_distance => cluster_distance: f64,
+    with_min_cluster_weight => min_cluster_weight: f64,
+});
+
+setters!(PostprocessSection {
+    with_alpha => alpha: f64,
+    with_beta_pos => beta_pos: f64,
+    with_beta_neg => beta_neg: f64,
+    with_min_area => min_area: f64,
+    with_min_hole_area => min_hole_area: f64,
+});
+
 /// Parameters of the 2D and 2.5D pipelines. Field names follow the papers and are the TOML
 /// keys and (in kebab case) the command-line flags.
 ///
@@ -389,6 +452,23 @@ impl Default for FastGaSection {
     }
 }
 
+impl From<FastGaConfig> for FastGaSection {
+    /// The section of a FastGA configuration (a preset such as [`FastGaConfig::rgbd`]):
+    /// its level, sample fraction, thresholds and cluster weight, with the default
+    /// `min_samples` (10,000). The search, parallelism and unit tolerance are the
+    /// detector's defaults in the pipeline.
+    fn from(c: FastGaConfig) -> Self {
+        Self {
+            level: c.level,
+            sample_fraction: c.sample_fraction,
+            value_threshold: c.value_threshold,
+            cluster_distance: c.cluster_distance,
+            min_cluster_weight: c.min_cluster_weight,
+            ..Self::default()
+        }
+    }
+}
+
 impl FastGaSection {
     /// The detector configuration for a mesh of `normals` triangle normals: the sample
     /// fraction is raised so that at least `min_samples` normals are integrated.
@@ -431,6 +511,21 @@ pub struct PostprocessSection {
     pub min_area: f64,
     /// δ: holes with a smaller area are dropped (unit²).
     pub min_hole_area: f64,
+}
+
+impl From<PostprocessConfig> for PostprocessSection {
+    /// The section of a post-processing configuration (a preset such as
+    /// [`PostprocessConfig::kitti`]); the buffers' corner style is the default one in the
+    /// pipeline.
+    fn from(c: PostprocessConfig) -> Self {
+        Self {
+            alpha: c.alpha,
+            beta_pos: c.beta_pos,
+            beta_neg: c.beta_neg,
+            min_area: c.min_area,
+            min_hole_area: c.min_hole_area,
+        }
+    }
 }
 
 impl PostprocessSection {
@@ -636,20 +731,18 @@ impl Config {
     ///   min_triangles 60, z 0.3, norm 0.94, hole vertices 8.
     pub fn preset(name: &str) -> Option<Self> {
         let base = Self::default();
-        let post = |alpha, beta_neg, beta_pos, min_area, min_hole_area| {
-            Some(PostprocessSection {
-                alpha,
-                beta_pos,
-                beta_neg,
-                min_area,
-                min_hole_area,
-            })
-        };
-        let fastga = |level, value_threshold, cluster_distance| FastGaSection {
-            level,
-            value_threshold,
-            cluster_distance,
-            ..FastGaSection::default()
+        let post = |c: PostprocessConfig| Some(PostprocessSection::from(c));
+        // Our presets beyond the papers: FastGA level 4, d_peak 0.15, 12 %, light
+        // directions kept (weight 0.01; walls beside a road, façades beside a roof).
+        let ours = |value_threshold| {
+            FastGaSection::from(
+                FastGaConfig::default()
+                    .with_level(4)
+                    .with_sample_fraction(0.12)
+                    .with_value_threshold(value_threshold)
+                    .with_cluster_distance(0.15)
+                    .with_min_cluster_weight(0.01),
+            )
         };
         Some(match name {
             "rgbd" => Self {
@@ -658,13 +751,13 @@ impl Config {
                     sigma_angle: 0.15,
                     ..BilateralConfig::default()
                 }),
-                fastga: fastga(3, 50.0, 0.28),
+                fastga: FastGaConfig::rgbd().into(),
                 min_triangles: 500,
                 norm_thresh: 0.96,
                 lmax: 0.05,
                 z_thresh: 0.1,
                 min_hole_vertices: 10,
-                postprocess: post(0.02, 0.02, 0.005, 0.1, 0.1),
+                postprocess: post(PostprocessConfig::rgbd()),
                 ..base
             },
             "synpeb" | "synpeb-auto" | "rgbd-auto" => {
@@ -681,10 +774,7 @@ impl Config {
                         ..LaplacianConfig::default()
                     }),
                     bilateral: Some(BilateralConfig::default()),
-                    fastga: FastGaSection {
-                        min_cluster_weight: 0.01,
-                        ..fastga(5, 3.0, 0.1)
-                    },
+                    fastga: FastGaConfig::synpeb_benchmark().into(),
                     lmax: 0.1,
                     min_triangles: if adaptive { 250 } else { 1000 },
                     min_area: if adaptive { 0.015 } else { 0.0 },
@@ -704,7 +794,7 @@ impl Config {
                 lmax: 0.9,
                 min_hole_vertices: 8,
                 z_thresh: 0.2,
-                postprocess: post(0.1, 0.1, 0.0, 16.0, 0.5),
+                postprocess: post(PostprocessConfig::rooftop()),
                 ..base
             },
             "kitti" => Self {
@@ -712,7 +802,7 @@ impl Config {
                 norm_thresh: 0.97,
                 lmax: 1.25,
                 min_hole_vertices: 6,
-                postprocess: post(0.2, 0.3, 0.02, 30.0, 0.5),
+                postprocess: post(PostprocessConfig::kitti()),
                 scan: Some(ScanSection {
                     keep_every: 2,
                     field_of_view: Some(FieldOfViewSection {
@@ -738,10 +828,7 @@ impl Config {
                     iterations: 1,
                     ..BilateralConfig::default()
                 }),
-                fastga: FastGaSection {
-                    min_cluster_weight: 0.01,
-                    ..fastga(4, 2.0, 0.15)
-                },
+                fastga: ours(2.0),
                 min_triangles: 100,
                 norm_thresh: 0.95,
                 lmax: 1.5,
@@ -757,25 +844,22 @@ impl Config {
             "mesh-basement" | "mesh-mainfloor" => {
                 let basement = name == "mesh-basement";
                 Self {
-                    fastga: fastga(4, 15.0, 0.1),
+                    fastga: FastGaConfig::mesh().into(),
                     min_triangles: if basement { 80 } else { 1000 },
                     norm_thresh: 0.95,
                     lmax: 0.1,
                     z_thresh: 0.08,
                     min_hole_vertices: 6,
-                    postprocess: if basement {
-                        post(0.01, 0.025, 0.0, 0.07, 0.05)
+                    postprocess: post(if basement {
+                        PostprocessConfig::mesh_basement()
                     } else {
-                        post(0.02, 0.05, 0.02, 0.25, 0.1)
-                    },
+                        PostprocessConfig::mesh_mainfloor()
+                    }),
                     ..base
                 }
             }
             "room" => Self {
-                fastga: FastGaSection {
-                    min_cluster_weight: 0.01,
-                    ..fastga(4, 5.0, 0.15)
-                },
+                fastga: ours(5.0),
                 lmax: 0.1,
                 min_triangles: 250,
                 z_thresh: 0.07,
@@ -787,10 +871,7 @@ impl Config {
                 ..base
             },
             "aerial" => Self {
-                fastga: FastGaSection {
-                    min_cluster_weight: 0.01,
-                    ..fastga(4, 5.0, 0.15)
-                },
+                fastga: ours(5.0),
                 lmax: 3.0,
                 min_triangles: 60,
                 z_thresh: 0.3,
@@ -869,11 +950,13 @@ impl Config {
             l.options(iterations)
                 .validate()
                 .map_err(|e| smoothing_error("laplacian", e))?;
+            backend_available("laplacian.backend", l.backend)?;
         }
         if let Some(b) = &self.bilateral {
             b.options()
                 .validate()
                 .map_err(|e| smoothing_error("bilateral", e))?;
+            backend_available("bilateral.backend", b.backend)?;
         }
         self.fastga.validate()?;
         if let Some(p) = &self.postprocess {
@@ -911,6 +994,20 @@ impl Config {
         }
         Ok(())
     }
+}
+
+/// Refuses [`SmoothingBackend::Gpu`] in a build without this crate's `gpu` feature, where
+/// the filter would fail on the first frame instead.
+fn backend_available(field: &'static str, backend: SmoothingBackend) -> Result<(), PolylidarError> {
+    if backend == SmoothingBackend::Gpu && !cfg!(feature = "gpu") {
+        return Err(PolylidarError::Config {
+            field,
+            value: "gpu".to_owned(),
+            reason: "needs the `gpu` feature of the polylidar crate (cpu or cpu_parallel run \
+                     without it)",
+        });
+    }
+    Ok(())
 }
 
 /// A smoothing filter's option error as a [`PolylidarError::Config`] naming the TOML
@@ -1098,6 +1195,102 @@ mod tests {
             ..Config::default()
         };
         assert_eq!(refused(config), "min_area");
+    }
+
+    /// `Polylidar::new` refuses a bad value in every section before any input is read,
+    /// and the error names the field.
+    #[test]
+    fn polylidar_new_refuses_a_bad_value_in_every_section() {
+        use crate::{BeamOutlierSection, UnorganizedSection};
+        let scan = |s: ScanSection| Config::new().with_scan(Some(s));
+        let unorganized = |u: UnorganizedSection| Config::new().with_unorganized(Some(u));
+        let fill = |f: FillConfig| Config::new().with_fill_missing(Some(f));
+        let cases = [
+            (Config::new().with_alpha(-1.0), "alpha"),
+            (Config::new().with_z_thresh(f64::NAN), "z_thresh"),
+            (Config::new().with_up([0.0; 3]), "up"),
+            (
+                laplacian(LaplacianConfig::default().with_kernel(4)),
+                "laplacian.kernel",
+            ),
+            (
+                laplacian(LaplacianConfig::default().with_range_exponent(5.0)),
+                "laplacian.range_exponent",
+            ),
+            (
+                bilateral(BilateralConfig::default().with_sigma_angle(-1.0)),
+                "bilateral.sigma_angle",
+            ),
+            (
+                fill(FillConfig::default().with_min_neighbours(9)),
+                "fill_missing.min_neighbours",
+            ),
+            (
+                fill(FillConfig::default().with_max_spread(f64::NAN)),
+                "fill_missing.max_spread",
+            ),
+            (
+                Config::new().with_fastga(FastGaSection::default().with_value_threshold(300.0)),
+                "value_threshold 300",
+            ),
+            (
+                Config::new()
+                    .with_postprocess(Some(PostprocessSection::default().with_min_hole_area(-1.0))),
+                "min_hole_area",
+            ),
+            (
+                scan(ScanSection::default().with_keep_every(0)),
+                "scan.keep_every",
+            ),
+            (
+                scan(
+                    ScanSection::default().with_field_of_view(Some(FieldOfViewSection::new(
+                        [-40.0, 40.0],
+                        [-15.0, 95.0],
+                    ))),
+                ),
+                "elevation",
+            ),
+            (
+                scan(ScanSection::default().with_beam_outliers(Some(
+                    BeamOutlierSection::default().with_min_deviation(-1.0),
+                ))),
+                "min_deviation",
+            ),
+            (
+                unorganized(UnorganizedSection::default().with_k(2)),
+                "unorganized.k",
+            ),
+            (
+                unorganized(UnorganizedSection::default().with_smoothing(1001)),
+                "unorganized.smoothing",
+            ),
+        ];
+        for (config, field) in cases {
+            let text = match crate::Polylidar::new(config) {
+                Err(e) => e.to_string(),
+                Ok(_) => "accepted".to_owned(),
+            };
+            assert!(text.contains(field), "{field}: {text}");
+        }
+    }
+
+    #[test]
+    fn the_gpu_backend_needs_the_gpu_feature() {
+        let gpu = laplacian(LaplacianConfig::default().with_backend(SmoothingBackend::Gpu));
+        let expected = if cfg!(feature = "gpu") {
+            "accepted"
+        } else {
+            "laplacian.backend"
+        };
+        assert_eq!(refused(gpu), expected);
+        let gpu = bilateral(BilateralConfig::default().with_backend(SmoothingBackend::Gpu));
+        let expected = if cfg!(feature = "gpu") {
+            "accepted"
+        } else {
+            "bilateral.backend"
+        };
+        assert_eq!(refused(gpu), expected);
     }
 
     #[test]

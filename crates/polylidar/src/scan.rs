@@ -6,6 +6,7 @@
 use rotating_scan::{BeamOutlierConfig, ElevationBins, FieldOfView, RangeImage, Rings};
 use serde::{Deserialize, Serialize};
 
+use crate::config::setters;
 use crate::{Extraction, OrganizedPointCloud, Polylidar, PolylidarError, Timings};
 
 /// How a scan's beams (rings) are recovered.
@@ -37,6 +38,16 @@ pub struct FieldOfViewSection {
     pub azimuth_deg: [f64; 2],
     /// Elevation above the horizontal: `[lowest, highest]` within −90–90.
     pub elevation_deg: [f64; 2],
+}
+
+impl FieldOfViewSection {
+    /// The window `azimuth_deg` × `elevation_deg` (see the fields).
+    pub fn new(azimuth_deg: [f64; 2], elevation_deg: [f64; 2]) -> Self {
+        Self {
+            azimuth_deg,
+            elevation_deg,
+        }
+    }
 }
 
 /// Beam-neighbour outlier removal ([`BeamOutlierConfig`]); lengths in the cloud's unit.
@@ -123,6 +134,21 @@ impl Default for ScanSection {
         }
     }
 }
+
+setters!(BeamOutlierSection {
+    with_neighbours => neighbours: usize,
+    with_max_gap => max_gap: f64,
+    with_flat_tolerance => flat_tolerance: f64,
+    with_min_deviation => min_deviation: f64,
+});
+
+setters!(ScanSection {
+    with_keep_every => keep_every: usize,
+    with_beams => beams: BeamSource,
+    with_field_of_view => field_of_view: Option<FieldOfViewSection>,
+    with_beam_outliers => beam_outliers: Option<BeamOutlierSection>,
+    with_range_image_columns => range_image_columns: Option<usize>,
+});
 
 /// The points of a scan that survive [`ScanSection`]'s thinning and outlier removal.
 #[derive(Debug, Clone, PartialEq)]

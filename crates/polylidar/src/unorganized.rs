@@ -40,6 +40,7 @@ use halfedge_mesh::{HalfEdgeMesh, MeshError, NO_TWIN};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
+use crate::config::setters;
 use crate::{Config, Counts, Extraction, Polylidar, PolylidarError, Timings};
 
 /// Directions at most.
@@ -82,7 +83,8 @@ pub struct UnorganizedSection {
     pub rounds: usize,
     /// Passes of Laplacian smoothing of the points over their `k` nearest neighbours
     /// before normals are estimated and the points triangulated (noisy scans; edges round
-    /// off by about a neighbourhood's radius). Default 0.
+    /// off by about a neighbourhood's radius). At most
+    /// [`mesh_smooth_gpu::MAX_ITERATIONS`] (1000). Default 0.
     pub smoothing: u32,
 }
 
@@ -97,6 +99,14 @@ impl Default for UnorganizedSection {
         }
     }
 }
+
+setters!(UnorganizedSection {
+    with_k => k: usize,
+    with_voxel => voxel: f64,
+    with_viewpoint => viewpoint: Option<[f64; 3]>,
+    with_rounds => rounds: usize,
+    with_smoothing => smoothing: u32,
+});
 
 impl UnorganizedSection {
     /// Checks the ranges.
@@ -123,6 +133,13 @@ impl UnorganizedSection {
         }
         if self.rounds == 0 {
             return bad("unorganized.rounds", "0".to_owned(), "must be at least 1");
+        }
+        if self.smoothing > mesh_smooth_gpu::MAX_ITERATIONS {
+            return bad(
+                "unorganized.smoothing",
+                self.smoothing.to_string(),
+                "must be at most 1000 passes",
+            );
         }
         if let Some(v) = self.viewpoint
             && !v.iter().all(|c| c.is_finite())
