@@ -4,7 +4,7 @@
 use std::path::Path;
 
 use polylidar::scale::{alpha_for_spacing, convert_lengths, lmax_for_spacing};
-use polylidar::{Config, PRESETS};
+use polylidar::{Config, Preset};
 use polylidar_io::LengthUnit;
 
 use crate::args::{Demo, InputArgs, Mode, ParamArgs};
@@ -109,11 +109,15 @@ fn layered(
     let mut explicit = Explicit::default();
     let mut config = match preset_name(args, organized).map(PresetChoice::name) {
         Some(name) => {
-            let metres = Config::preset(name).ok_or_else(|| CliError::Preset {
+            let preset: Preset = name.parse().map_err(|_| CliError::Preset {
                 name: name.to_owned(),
-                known: PRESETS.join(", "),
+                known: Preset::all()
+                    .iter()
+                    .map(|p| p.name())
+                    .collect::<Vec<_>>()
+                    .join(", "),
             })?;
-            convert_lengths(&metres, 1.0 / unit.metres())
+            convert_lengths(&preset.config(), 1.0 / unit.metres())
         }
         None if args.demo == Some(Demo::Shape) && args.input.is_none() => {
             explicit.alpha = true;

@@ -1,7 +1,7 @@
 //! `Polylidar(preset=..., **params)`: a preset's [`Config`] with keyword overrides, in the
 //! original package's names.
 
-use polylidar::{Config, PRESETS};
+use polylidar::{Config, Preset};
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -20,12 +20,10 @@ pub fn build(
 ) -> PyResult<Config> {
     let base = match preset {
         None => Config::default(),
-        Some(name) => Config::preset(name).ok_or_else(|| {
-            PyValueError::new_err(format!(
-                "unknown preset {name:?}; known presets: {}",
-                PRESETS.join(", ")
-            ))
-        })?,
+        Some(name) => name
+            .parse::<Preset>()
+            .map_err(|e| PyValueError::new_err(e.to_string()))?
+            .config(),
     };
     let Some(params) = params.filter(|p| !p.is_empty()) else {
         return Ok(base);

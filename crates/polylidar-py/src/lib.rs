@@ -359,7 +359,7 @@ fn load<'py>(py: Python<'py>, path: PathBuf) -> PyResult<Bound<'py, PyDict>> {
 /// The names accepted as ``preset``.
 #[pyfunction]
 fn presets() -> Vec<&'static str> {
-    polylidar::PRESETS.to_vec()
+    polylidar::Preset::all().iter().map(|p| p.name()).collect()
 }
 
 /// The extension module.

@@ -7,7 +7,7 @@ use planeseg::SegmentationConfig;
 use polypost::PostprocessConfig;
 use serde::{Deserialize, Serialize};
 
-use crate::{BeamOutlierSection, FieldOfViewSection, PolylidarError, ScanSection};
+use crate::{PolylidarError, Preset, ScanSection};
 
 /// `with_<field>` builders, one per listed field, each documented as setting it: the
 /// configuration structs are `#[non_exhaustive]`, so code outside this crate builds them
@@ -540,21 +540,6 @@ impl PostprocessSection {
     }
 }
 
-/// Names accepted by [`Config::preset`].
-pub const PRESETS: [&str; 11] = [
-    "rgbd",
-    "synpeb",
-    "synpeb-auto",
-    "rgbd-auto",
-    "rooftop",
-    "kitti",
-    "kitti-range",
-    "mesh-basement",
-    "mesh-mainfloor",
-    "room",
-    "aerial",
-];
-
 impl Default for Config {
     fn default() -> Self {
         Self {
@@ -675,213 +660,16 @@ impl Config {
         self
     }
 
-    /// The parameters of a named preset from the papers (see [`PRESETS`]), or `None`.
+    /// The parameters of a named preset (see [`Preset`], whose names these are), or
+    /// `None` for a name that is none of them.
     ///
-    /// * `rgbd` (Table 7): Laplacian λ 1, k 3, 2 it; bilateral σl 0.1, σa 0.15, k 3, 2 it;
-    ///   FastGA level 3, v_min 50, d_peak 0.28, 12 %; min_triangles 500, norm 0.96,
-    ///   lmax 0.05, z 0.1, hole vertices 10; post α 0.02, β_neg 0.02, β_pos 0.005, γ 0.1,
-    ///   δ 0.1.
-    /// * `synpeb` (the authors' benchmark values, used for the timing comparisons with the
-    ///   original): Laplacian k 5, λ 1, 8 it; bilateral
-    ///   k 3, σ 0.1 / 0.1, 2 it; FastGA level 5, v_min 3, d_peak 0.1, weight 0.01, 12 % of
-    ///   at least 10,000 normals; lmax 0.1, min_triangles 1000, z 0.07, norm 0.95, hole
-    ///   vertices 50; no post-processing.
-    /// * `synpeb-auto`: the detector that adapts to the data, for range scanners and depth
-    ///   cameras alike (measured on both synthetic suites and the real SynPEB frames in
-    ///   `cargo xtask bench`, Tables 10 and 10b): `synpeb` with Laplacian iterations `auto`
-    ///   (Table 9: "iterations = varies (predicted)"; predicted per cloud from its noise and
-    ///   the noise's correlation, see [`crate::auto_laplacian_iterations`]), refinement on
-    ///   ([`Config::refine`]: absorption, planes without a dominant normal, merging, one
-    ///   plane id for disjoint pieces), `min_triangles` 250 and `min_area` 0.015 m² (a
-    ///   region with fewer triangles is kept when it is that large: far planes, and
-    ///   lower resolutions).
-    /// * `rgbd-auto`: the adaptive detector for depth cameras: `synpeb-auto` with the
-    ///   Laplacian passes growing with range ([`LaplacianConfig::range_exponent`] 1), as
-    ///   the depth error of stereo and structured-light cameras, relative to the point
-    ///   spacing, does, and isolated missing returns filled ([`Config::fill_missing`]:
-    ///   4 of 8 neighbours within 3 % in range).
-    /// * `rooftop` (Table 3): Laplacian λ 1, 2 it; bilateral σ 0.1 / 0.1, 2 it; normal =
-    ///   `up`; min_triangles 200, norm 0.94, lmax 0.9, hole vertices 8, z 0.2; post α 0.1,
-    ///   β_neg 0.1, β_pos 0, γ 16, δ 0.5.
-    /// * `kitti` (Table 4, §9.2.2): min_triangles 3500, norm 0.97, lmax 1.25, hole
-    ///   vertices 6; post α 0.2, β_neg 0.3, β_pos 0.02, γ 30, δ 0.5; and the frame
-    ///   prepared as the paper does ([`ScanSection`]): beams from the firing order, every
-    ///   second point, the front camera's view (azimuth ±40.7°, elevation −15.6° to
-    ///   13.5°: KITTI's 1242 × 375 pixel images at a focal length of about 721 pixels),
-    ///   beam outliers dropped (2 neighbours a side within 0.06 of one line, point 0.2
-    ///   off it, gaps up to 1).
-    /// * `kitti-range` (ours, beyond the paper): the whole KITTI frame as a 64-row range
-    ///   image on the organized 3D path, for walls, kerbs and façades as well as the
-    ///   ground: every second point, no crop, no outlier removal (a dropped point would
-    ///   leave a hole in the image); Laplacian λ 1, k 3, 2 it (wall normals scatter too
-    ///   much without it); bilateral σl 0.1, σa 0.1, k 3, 1 it; FastGA level 4, v_min 2,
-    ///   d_peak 0.15, weight 0.01 (walls are light beside the road); min_triangles 100,
-    ///   norm 0.95, lmax 1.5, z 0.15, hole vertices 6; no post-processing.
-    /// * `mesh-basement` / `mesh-mainfloor` (Tables 14–15): FastGA level 4, v_min 15,
-    ///   d_peak 0.1, 12 %; min_triangles 80 / 1000, norm 0.95, lmax 0.1, z 0.08, hole
-    ///   vertices 6; post α 0.01 / 0.02, β_neg 0.025 / 0.05, β_pos 0 / 0.02, γ 0.07 / 0.25,
-    ///   δ 0.05 / 0.1.
-    /// * `room` (ours): unorganized indoor clouds — scans with the grid dropped, merged
-    ///   views, SLAM maps — on the unorganized 3D path ([`Config::unorganized`], its
-    ///   defaults): FastGA level 4, v_min 5, d_peak 0.15, weight 0.01; lmax 0.1,
-    ///   min_triangles 250, min_area 0.015, z 0.07, norm 0.95, hole vertices 10,
-    ///   refinement on (a wall seen between objects is one plane).
-    /// * `aerial` (ours): airborne LiDAR on the unorganized 3D path, for pitched roofs and
-    ///   façades as well as flat roofs and the ground: FastGA as `room`; lmax 3,
-    ///   min_triangles 60, z 0.3, norm 0.94, hole vertices 8.
+    /// ```
+    /// use polylidar::{Config, Preset};
+    /// assert_eq!(Config::preset("kitti"), Some(Preset::Kitti.config()));
+    /// assert_eq!(Config::preset("no such preset"), None);
+    /// ```
     pub fn preset(name: &str) -> Option<Self> {
-        let base = Self::default();
-        let post = |c: PostprocessConfig| Some(PostprocessSection::from(c));
-        // Our presets beyond the papers: FastGA level 4, d_peak 0.15, 12 %, light
-        // directions kept (weight 0.01; walls beside a road, façades beside a roof).
-        let ours = |value_threshold| {
-            FastGaSection::from(
-                FastGaConfig::default()
-                    .with_level(4)
-                    .with_sample_fraction(0.12)
-                    .with_value_threshold(value_threshold)
-                    .with_cluster_distance(0.15)
-                    .with_min_cluster_weight(0.01),
-            )
-        };
-        Some(match name {
-            "rgbd" => Self {
-                laplacian: Some(LaplacianConfig::default()),
-                bilateral: Some(BilateralConfig {
-                    sigma_angle: 0.15,
-                    ..BilateralConfig::default()
-                }),
-                fastga: FastGaConfig::rgbd().into(),
-                min_triangles: 500,
-                norm_thresh: 0.96,
-                lmax: 0.05,
-                z_thresh: 0.1,
-                min_hole_vertices: 10,
-                postprocess: post(PostprocessConfig::rgbd()),
-                ..base
-            },
-            "synpeb" | "synpeb-auto" | "rgbd-auto" => {
-                let adaptive = name != "synpeb";
-                Self {
-                    laplacian: Some(LaplacianConfig {
-                        kernel: 5,
-                        iterations: if adaptive {
-                            LaplacianIterations::Auto
-                        } else {
-                            LaplacianIterations::Fixed(8)
-                        },
-                        range_exponent: if name == "rgbd-auto" { 1.0 } else { 0.0 },
-                        ..LaplacianConfig::default()
-                    }),
-                    bilateral: Some(BilateralConfig::default()),
-                    fastga: FastGaConfig::synpeb_benchmark().into(),
-                    lmax: 0.1,
-                    min_triangles: if adaptive { 250 } else { 1000 },
-                    min_area: if adaptive { 0.015 } else { 0.0 },
-                    z_thresh: 0.07,
-                    norm_thresh: 0.95,
-                    min_hole_vertices: 50,
-                    refine: adaptive,
-                    fill_missing: (name == "rgbd-auto").then(FillConfig::default),
-                    ..base
-                }
-            }
-            "rooftop" => Self {
-                laplacian: Some(LaplacianConfig::default()),
-                bilateral: Some(BilateralConfig::default()),
-                min_triangles: 200,
-                norm_thresh: 0.94,
-                lmax: 0.9,
-                min_hole_vertices: 8,
-                z_thresh: 0.2,
-                postprocess: post(PostprocessConfig::rooftop()),
-                ..base
-            },
-            "kitti" => Self {
-                min_triangles: 3500,
-                norm_thresh: 0.97,
-                lmax: 1.25,
-                min_hole_vertices: 6,
-                postprocess: post(PostprocessConfig::kitti()),
-                scan: Some(ScanSection {
-                    keep_every: 2,
-                    field_of_view: Some(FieldOfViewSection {
-                        azimuth_deg: [-40.7, 40.7],
-                        elevation_deg: [-15.6, 13.5],
-                    }),
-                    beam_outliers: Some(BeamOutlierSection::default()),
-                    ..ScanSection::default()
-                }),
-                ..base
-            },
-            "kitti-range" => Self {
-                // Walls are seen at a few centimetres per pixel with centimetres of range
-                // noise: without vertex smoothing their normals scatter too widely for a
-                // FastGA peak, and only the ground comes out.
-                laplacian: Some(LaplacianConfig {
-                    kernel: 3,
-                    lambda: 1.0,
-                    iterations: LaplacianIterations::Fixed(2),
-                    ..LaplacianConfig::default()
-                }),
-                bilateral: Some(BilateralConfig {
-                    iterations: 1,
-                    ..BilateralConfig::default()
-                }),
-                fastga: ours(2.0),
-                min_triangles: 100,
-                norm_thresh: 0.95,
-                lmax: 1.5,
-                z_thresh: 0.15,
-                min_hole_vertices: 6,
-                scan: Some(ScanSection {
-                    keep_every: 2,
-                    range_image_columns: Some(0),
-                    ..ScanSection::default()
-                }),
-                ..base
-            },
-            "mesh-basement" | "mesh-mainfloor" => {
-                let basement = name == "mesh-basement";
-                Self {
-                    fastga: FastGaConfig::mesh().into(),
-                    min_triangles: if basement { 80 } else { 1000 },
-                    norm_thresh: 0.95,
-                    lmax: 0.1,
-                    z_thresh: 0.08,
-                    min_hole_vertices: 6,
-                    postprocess: post(if basement {
-                        PostprocessConfig::mesh_basement()
-                    } else {
-                        PostprocessConfig::mesh_mainfloor()
-                    }),
-                    ..base
-                }
-            }
-            "room" => Self {
-                fastga: ours(5.0),
-                lmax: 0.1,
-                min_triangles: 250,
-                z_thresh: 0.07,
-                norm_thresh: 0.95,
-                min_hole_vertices: 10,
-                min_area: 0.015,
-                refine: true,
-                unorganized: Some(crate::UnorganizedSection::default()),
-                ..base
-            },
-            "aerial" => Self {
-                fastga: ours(5.0),
-                lmax: 3.0,
-                min_triangles: 60,
-                z_thresh: 0.3,
-                norm_thresh: 0.94,
-                min_hole_vertices: 8,
-                unorganized: Some(crate::UnorganizedSection::default()),
-                ..base
-            },
-            _ => return None,
-        })
+        name.parse::<Preset>().ok().map(Preset::config)
     }
 
     /// Checks every field's range, with the rules of the stage each field goes to (the
@@ -1078,14 +866,6 @@ mod tests {
     }
 
     #[test]
-    fn every_preset_is_valid() {
-        for name in PRESETS {
-            let config = Config::preset(name).unwrap();
-            assert_eq!(config.validate().ok(), Some(()), "{name}");
-        }
-    }
-
-    #[test]
     fn laplacian_lambda_is_a_step_in_zero_to_one() {
         for lambda in [0.0, -1.0, 2.0, 10.0, 1e30, -1e30, f32::NAN] {
             let config = laplacian(LaplacianConfig {
@@ -1201,7 +981,7 @@ mod tests {
     /// and the error names the field.
     #[test]
     fn polylidar_new_refuses_a_bad_value_in_every_section() {
-        use crate::{BeamOutlierSection, UnorganizedSection};
+        use crate::{BeamOutlierSection, FieldOfViewSection, UnorganizedSection};
         let scan = |s: ScanSection| Config::new().with_scan(Some(s));
         let unorganized = |u: UnorganizedSection| Config::new().with_unorganized(Some(u));
         let fill = |f: FillConfig| Config::new().with_fill_missing(Some(f));

@@ -51,6 +51,7 @@ mod noise;
 pub mod output;
 mod pipeline;
 mod pipeline3d;
+mod preset;
 mod regions;
 mod reuse;
 pub mod scale;
@@ -62,8 +63,7 @@ pub mod unorganized;
 
 pub use config::{
     BilateralConfig, Config, FastGaSection, FillConfig, LaplacianConfig, LaplacianIterations,
-    MAX_RANGE_EXPONENT, MAX_THREADS_PER_CORE, PRESETS, PostprocessSection, SmoothingBackend,
-    max_threads,
+    MAX_RANGE_EXPONENT, MAX_THREADS_PER_CORE, PostprocessSection, SmoothingBackend, max_threads,
 };
 pub use diagnostics::{Counts, Diagnostics, Timings};
 pub use error::PolylidarError;
@@ -83,6 +83,7 @@ pub use pipeline::{
 /// Planar simplification and texturing (Ma et al. 2013), re-exported: see
 /// [`Extraction::planar_meshes`].
 pub use planar_mesh;
+pub use preset::{Preset, UnknownPreset};
 pub use scan::{BeamOutlierSection, BeamSource, FieldOfViewSection, PreparedScan, ScanSection};
 pub use unorganized::UnorganizedSection;
 
