@@ -435,7 +435,7 @@ fn render_aerial(
     up: [f64; 3],
     processed: bool,
 ) -> Result<Pixmap, String> {
-    let frame = PlaneFrame::new(up);
+    let frame = PlaneFrame::new(up).ok_or_else(|| format!("up {up:?} is zero or not finite"))?;
     let len = (up[0] * up[0] + up[1] * up[1] + up[2] * up[2]).sqrt();
     let height = |p: [f64; 3]| (p[0] * up[0] + p[1] * up[1] + p[2] * up[2]) / len;
     let planar: Vec<[f64; 2]> = points.iter().map(|&p| frame.project(p)).collect();
@@ -579,13 +579,8 @@ fn render_oblique(extraction: &Extraction, up: [f64; 3]) -> Result<Pixmap, Strin
     };
     let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
     let up = unit(up);
-    let (e1, e2) = {
-        let frame = PlaneFrame::new(up);
-        let a = frame.project([1.0, 0.0, 0.0]);
-        let b = frame.project([0.0, 1.0, 0.0]);
-        let c = frame.project([0.0, 0.0, 1.0]);
-        ([a[0], b[0], c[0]], [a[1], b[1], c[1]])
-    };
+    let frame = PlaneFrame::new(up).ok_or_else(|| format!("up {up:?} is zero or not finite"))?;
+    let (e1, e2) = (frame.e1, frame.e2);
     let (az, el) = (30f64.to_radians(), 35f64.to_radians());
     // From the scene towards the viewer.
     let eye = unit(

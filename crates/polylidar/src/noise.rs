@@ -4,6 +4,7 @@
 //! cloud noise").
 
 use opc_mesh::OrganizedPointCloud;
+use plane_geom::symmetric_eigenvalues;
 use rayon::prelude::*;
 
 /// At most about this many 3 × 3 neighbourhoods are fitted per cloud (a regular grid of
@@ -303,46 +304,9 @@ fn fit(points: &[[f64; 3]], cols: usize, r: usize, c: usize) -> Option<Fit> {
     })
 }
 
-/// Eigenvalues, ascending, of the symmetric 3 × 3 matrix `[xx, yy, zz, xy, xz, yz]`
-/// (closed form through the trigonometric solution of the characteristic cubic).
-fn symmetric_eigenvalues(a: [f64; 6]) -> [f64; 3] {
-    let [xx, yy, zz, xy, xz, yz] = a;
-    let off = xy * xy + xz * xz + yz * yz;
-    let q = (xx + yy + zz) / 3.0;
-    let (dx, dy, dz) = (xx - q, yy - q, zz - q);
-    let p2 = dx * dx + dy * dy + dz * dz + 2.0 * off;
-    if p2.is_nan() || p2 <= 0.0 {
-        return [q; 3];
-    }
-    let p = (p2 / 6.0).sqrt();
-    // det((A − qI) / p) / 2, clamped into [−1, 1] against rounding.
-    let (bx, by, bz, bxy, bxz, byz) = (dx / p, dy / p, dz / p, xy / p, xz / p, yz / p);
-    let det =
-        bx * (by * bz - byz * byz) - bxy * (bxy * bz - byz * bxz) + bxz * (bxy * byz - by * bxz);
-    let half = (det / 2.0).clamp(-1.0, 1.0);
-    let phi = half.acos() / 3.0;
-    let largest = q + 2.0 * p * phi.cos();
-    let smallest = q + 2.0 * p * (phi + 2.0 * std::f64::consts::FRAC_PI_3).cos();
-    let middle = 3.0 * q - largest - smallest;
-    [smallest, middle, largest]
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn eigenvalues_of_diagonal_and_rotated_matrices() {
-        let e = symmetric_eigenvalues([3.0, 1.0, 2.0, 0.0, 0.0, 0.0]);
-        for (got, want) in e.iter().zip([1.0, 2.0, 3.0]) {
-            assert!((got - want).abs() < 1e-12, "{e:?}");
-        }
-        // [[2, 1, 0], [1, 2, 0], [0, 0, 5]]: 1, 3, 5.
-        let e = symmetric_eigenvalues([2.0, 2.0, 5.0, 1.0, 0.0, 0.0]);
-        for (got, want) in e.iter().zip([1.0, 3.0, 5.0]) {
-            assert!((got - want).abs() < 1e-12, "{e:?}");
-        }
-    }
 
     #[test]
     fn prediction_is_clamped() {

@@ -1,6 +1,7 @@
 //! The 2D and 2.5D Polylidar pipeline: mesh → filter → regions → polygons.
 
-use halfedge_mesh::HalfEdgeMesh;
+use halfedge_mesh::{HalfEdgeMesh, MeshError};
+use plane_geom::vec3::unit;
 use polyextract::Extractor;
 use rayon::prelude::*;
 
@@ -369,7 +370,7 @@ impl Polylidar {
     pub fn extract_25d(&self, points: &[[f64; 3]]) -> Result<Extraction, PolylidarError> {
         self.install(|| {
             let mut timings = Timings::default();
-            let up = unit(self.config.up);
+            let up = unit(self.config.up).ok_or(MeshError::BadUpVector { up: self.config.up })?;
             let (mesh, report) = timings.time("mesh", || {
                 HalfEdgeMesh::delaunay_25d_with_report(points, up)
             })?;
@@ -379,7 +380,7 @@ impl Polylidar {
                 triangles: mesh.num_triangles(),
                 ..Counts::default()
             };
-            let frame = PlaneFrame::new(up);
+            let frame = PlaneFrame::new(up).ok_or(MeshError::BadUpVector { up })?;
             let alpha = self.config.alpha;
             self.extract_from_mesh(mesh, Some(up), alpha, counts, timings, |p| frame.project(p))
         })
@@ -496,62 +497,14 @@ impl Polylidar {
     }
 }
 
-fn unit(v: [f64; 3]) -> [f64; 3] {
-    let len = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
-    v.map(|c| c / len)
-}
-
-/// Coordinates in the plane orthogonal to `up`, right-handed about it: for `up = +z`
-/// they are plain `(x, y)`. The 2.5D pipeline extracts polygons in this frame.
+/// The 2.5D pipeline extracts polygons in the plane orthogonal to `up`, in the frame
+/// its triangulation (`HalfEdgeMesh::delaunay_25d`) projects on: for `up = +z` plain
+/// `(x, y)`.
 ///
 /// ```
 /// use polylidar::PlaneFrame;
-/// let frame = PlaneFrame::new([0.0, 0.0, 2.0]);
+/// let frame = PlaneFrame::new([0.0, 0.0, 2.0]).ok_or("zero up")?;
 /// assert_eq!(frame.project([3.0, 4.0, 5.0]), [3.0, 4.0]);
+/// # Ok::<(), &str>(())
 /// ```
-#[derive(Debug, Clone, Copy)]
-pub struct PlaneFrame {
-    e1: [f64; 3],
-    e2: [f64; 3],
-}
-
-impl PlaneFrame {
-    /// The frame for a non-zero `up` (normalised here).
-    pub fn new(up: [f64; 3]) -> Self {
-        let up = unit(up);
-        if up == [0.0, 0.0, 1.0] {
-            return Self {
-                e1: [1.0, 0.0, 0.0],
-                e2: [0.0, 1.0, 0.0],
-            };
-        }
-        let axis = if up[0].abs() <= up[1].abs() && up[0].abs() <= up[2].abs() {
-            [1.0, 0.0, 0.0]
-        } else if up[1].abs() <= up[2].abs() {
-            [0.0, 1.0, 0.0]
-        } else {
-            [0.0, 0.0, 1.0]
-        };
-        let d = axis[0] * up[0] + axis[1] * up[1] + axis[2] * up[2];
-        let e1 = unit([
-            axis[0] - d * up[0],
-            axis[1] - d * up[1],
-            axis[2] - d * up[2],
-        ]);
-        let e2 = [
-            up[1] * e1[2] - up[2] * e1[1],
-            up[2] * e1[0] - up[0] * e1[2],
-            up[0] * e1[1] - up[1] * e1[0],
-        ];
-        Self { e1, e2 }
-    }
-
-    /// The in-plane coordinates of `p`.
-    #[inline]
-    pub fn project(&self, p: [f64; 3]) -> [f64; 2] {
-        [
-            p[0] * self.e1[0] + p[1] * self.e1[1] + p[2] * self.e1[2],
-            p[0] * self.e2[0] + p[1] * self.e2[1] + p[2] * self.e2[2],
-        ]
-    }
-}
+pub use plane_geom::PlaneFrame;

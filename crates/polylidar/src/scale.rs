@@ -37,7 +37,7 @@
 //! # Ok::<(), polylidar::PolylidarError>(())
 //! ```
 
-use halfedge_mesh::HalfEdgeMesh;
+use halfedge_mesh::{HalfEdgeMesh, MeshError};
 
 use crate::{Config, PlaneFrame, PolylidarError};
 
@@ -76,7 +76,7 @@ pub const MIN_AREA_SHARE: f64 = 1e-4;
 /// seen along `up` (its bounding rectangle in the plane orthogonal to `up`), for a sample
 /// of median nearest-neighbour distance `spacing` (a triangle of such a sample covers
 /// about `spacing² / 2`); and that area. At least `floor` triangles. `None` without a
-/// finite, positive spacing or extent.
+/// finite, positive spacing or extent, or for a zero or non-finite `up`.
 ///
 /// ```
 /// use polylidar::scale::min_triangles_for_extent;
@@ -95,7 +95,7 @@ pub fn min_triangles_for_extent(
     spacing: f64,
     floor: usize,
 ) -> Option<(usize, f64)> {
-    let frame = PlaneFrame::new(up);
+    let frame = PlaneFrame::new(up)?;
     let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
     for p in points.iter().filter(|p| p.iter().all(|c| c.is_finite())) {
         let q = frame.project(*p);
@@ -137,7 +137,7 @@ pub fn median_spacing_2d(points: &[[f64; 2]]) -> Result<f64, PolylidarError> {
 /// As [`median_spacing_2d`], plus [`PolylidarError::Mesh`] for a zero or non-finite `up`.
 pub fn median_spacing_25d(points: &[[f64; 3]], up: [f64; 3]) -> Result<f64, PolylidarError> {
     let (mesh, _) = HalfEdgeMesh::delaunay_25d_with_report(points, up)?;
-    let frame = PlaneFrame::new(up);
+    let frame = PlaneFrame::new(up).ok_or(MeshError::BadUpVector { up })?;
     Ok(median_nearest(&mesh, |v| frame.project(v)))
 }
 
