@@ -19,8 +19,10 @@ use crate::vec3::{Vec3, dot, scale, sub, unit};
 /// assert_eq!(floor.project([5.0, 5.0, 3.0]), [5.0, 5.0, 1.0]);
 /// # Ok::<(), plane_geom::PlaneError>(())
 /// ```
+///
+/// Not `#[non_exhaustive]`: like a `geo-types` coordinate, the three fields are the
+/// definition, and code that writes a plane as a literal keeps compiling.
 #[derive(Debug, Clone, Copy, PartialEq)]
-#[non_exhaustive]
 pub struct Plane {
     /// Unit normal.
     pub normal: Vec3,

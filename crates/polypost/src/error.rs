@@ -42,19 +42,17 @@ pub enum PostError {
         /// The middle eigenvalue of the covariance (the spread across the line).
         spread: f64,
     },
-    /// A plane normal is zero or not finite.
+    /// A plane could not be built: its normal is zero or not finite, or its point is not
+    /// finite.
+    #[error(transparent)]
+    Plane(#[from] plane_geom::PlaneError),
+    /// The points are finite but so far apart that their covariance overflows.
     #[error(
-        "plane normal {normal:?} is zero or not finite; a plane needs a finite non-zero normal"
+        "the spread of the {count} points overflows (coordinates near the largest f64); scale or centre them before fitting"
     )]
-    BadNormal {
-        /// The normal given.
-        normal: [f64; 3],
-    },
-    /// A point given to build a plane is not finite.
-    #[error("plane point {point:?} is not finite")]
-    BadPlanePoint {
-        /// The point given.
-        point: [f64; 3],
+    SpreadOverflow {
+        /// Number of points used.
+        count: usize,
     },
     /// A configuration field is negative, NaN or infinite.
     #[error(

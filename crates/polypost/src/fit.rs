@@ -1,9 +1,8 @@
 //! Least-squares plane fitting (PCA of the 3×3 covariance) and its fit error.
 
-use nalgebra::{Matrix3, SymmetricEigen};
-
 use crate::PostError;
 use crate::plane::Plane;
+use plane_geom::symmetric_eigen;
 
 /// Options of [`fit_plane_with_options`].
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -121,13 +120,13 @@ where
     for c in &mut cov {
         *c *= inv;
     }
-    let m = Matrix3::new(
-        cov[0], cov[1], cov[2], cov[1], cov[3], cov[4], cov[2], cov[4], cov[5],
-    );
-    let eig = SymmetricEigen::new(m);
-    let mut order = [0usize, 1, 2];
-    order.sort_by(|&a, &b| eig.eigenvalues[a].total_cmp(&eig.eigenvalues[b]));
-    let eigenvalues = order.map(|i| eig.eigenvalues[i].max(0.0));
+    let eig = symmetric_eigen([
+        [cov[0], cov[1], cov[2]],
+        [cov[1], cov[3], cov[4]],
+        [cov[2], cov[4], cov[5]],
+    ])
+    .ok_or(PostError::SpreadOverflow { count })?;
+    let eigenvalues = eig.values.map(|v| v.max(0.0));
     let scale = eigenvalues[2];
     // The plane is undetermined when the spread across the main direction vanishes.
     if scale == 0.0 || eigenvalues[1] <= scale * 1e-18 {
@@ -136,8 +135,7 @@ where
             spread: eigenvalues[1],
         });
     }
-    let col = eig.eigenvectors.column(order[0]);
-    let normal = [col[0], col[1], col[2]];
+    let normal = eig.vectors[0];
     let mut plane =
         Plane::from_normal_and_point(normal, mean).map_err(|_| PostError::DegeneratePoints {
             count,
@@ -180,7 +178,7 @@ mod tests {
         let plane = Plane::from_normal_and_point([1.0, 2.0, 2.0], [3.0, 0.0, 1.0]).unwrap();
         let f = plane.frame();
         let pts: Vec<_> = (0..50)
-            .map(|i| f.to_3d([(i % 7) as f64 * 0.3, (i / 7) as f64 * 0.2]))
+            .map(|i| f.lift([(i % 7) as f64 * 0.3, (i / 7) as f64 * 0.2]))
             .collect();
         let fit = fit_plane_with_options(
             &pts,
@@ -207,7 +205,7 @@ mod tests {
         let pts: Vec<_> = (0..n)
             .map(|_| {
                 let q = [rng.random_range(-2.0..2.0), rng.random_range(-1.0..1.0)];
-                let p = f.to_3d(q);
+                let p = f.lift(q);
                 let e = sigma * gauss(&mut rng);
                 [
                     p[0] + e * truth.normal[0],
@@ -221,7 +219,7 @@ mod tests {
             &PlaneFitOptions::default().with_orient_toward(truth.normal),
         )
         .unwrap();
-        let cos = crate::plane::dot(fit.plane.normal, truth.normal);
+        let cos = plane_geom::vec3::dot(fit.plane.normal, truth.normal);
         assert!(
             cos > (0.1f64.to_radians()).cos(),
             "normal off by {} deg",

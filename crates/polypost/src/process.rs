@@ -237,7 +237,7 @@ fn project(polygon: &Polygon3, frame: &PlaneFrame) -> Polygon<f64> {
         LineString(
             r.iter()
                 .map(|&p| {
-                    let q = frame.to_2d(p);
+                    let q = frame.project(p);
                     Coord { x: q[0], y: q[1] }
                 })
                 .collect(),
@@ -253,7 +253,7 @@ fn project(polygon: &Polygon3, frame: &PlaneFrame) -> Polygon<f64> {
 fn lift(polygon: &Polygon<f64>, frame: &PlaneFrame) -> Polygon3 {
     let ring = |r: &LineString<f64>| -> Vec<[f64; 3]> {
         let open = &r.0[..r.0.len().saturating_sub(1)];
-        open.iter().map(|c| frame.to_3d([c.x, c.y])).collect()
+        open.iter().map(|c| frame.lift([c.x, c.y])).collect()
     };
     Polygon3 {
         shell: ring(polygon.exterior()),

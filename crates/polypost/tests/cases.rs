@@ -42,7 +42,7 @@ fn bow_tie_on_a_tilted_plane_is_repaired_and_stays_on_the_plane() {
     let plane = Plane::from_normal_and_point([0.3, -0.2, 0.9], [5.0, 1.0, -2.0]).unwrap();
     let f = plane.frame();
     let shell = [[0.0, 0.0], [2.0, 2.0], [2.0, 0.0], [0.0, 2.0]]
-        .map(|q| f.to_3d(q))
+        .map(|q| f.lift(q))
         .to_vec();
     let out = processor(PostprocessConfig::rgbd().with_min_area(0.0))
         .process_3d(&Polygon3::new(shell, vec![]), &plane);

@@ -254,7 +254,7 @@ proptest! {
         // Lift the 2D shape onto the plane with a small off-plane wobble.
         let lift = |r: &LineString<f64>| -> Vec<[f64; 3]> {
             r.0.iter().enumerate().map(|(i, c)| {
-                let p = f.to_3d([c.x, c.y]);
+                let p = f.lift([c.x, c.y]);
                 let e = noise * ((i as f64) * 1.7).sin();
                 [p[0] + e * normal[0], p[1] + e * normal[1], p[2] + e * normal[2]]
             }).collect()
@@ -271,8 +271,8 @@ proptest! {
         }
         // Same as processing the projection in 2D.
         let flat = Polygon::new(
-            LineString(poly3.shell.iter().map(|&p| { let q = f.to_2d(p); Coord { x: q[0], y: q[1] } }).collect()),
-            poly3.holes.iter().map(|h| LineString(h.iter().map(|&p| { let q = f.to_2d(p); Coord { x: q[0], y: q[1] } }).collect())).collect(),
+            LineString(poly3.shell.iter().map(|&p| { let q = f.project(p); Coord { x: q[0], y: q[1] } }).collect()),
+            poly3.holes.iter().map(|h| LineString(h.iter().map(|&p| { let q = f.project(p); Coord { x: q[0], y: q[1] } }).collect())).collect(),
         );
         let out2 = processor.process_2d(&flat);
         prop_assert_eq!(out.polygons.len(), out2.polygons.len());
