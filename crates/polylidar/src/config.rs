@@ -86,6 +86,7 @@ setters!(PostprocessSection {
 /// ```
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
+#[non_exhaustive]
 pub struct Config {
     /// Keep a triangle only if its circumradius is at most `alpha` (the α-shape test);
     /// `0` disables the test. Length unit.
@@ -148,6 +149,7 @@ pub struct Config {
 /// of the nearest (they lie on one surface).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
+#[non_exhaustive]
 pub struct FillConfig {
     /// Valid neighbours needed, 1–8. Default 4.
     pub min_neighbours: u8,
@@ -196,6 +198,7 @@ pub fn max_threads() -> usize {
 /// Laplacian vertex filter parameters (Polylidar3D Eq. 1–2).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
+#[non_exhaustive]
 pub struct LaplacianConfig {
     /// Odd pixel neighbourhood side, 3 to [`mesh_smooth_gpu::MAX_KERNEL`] (15).
     pub kernel: u32,
@@ -344,6 +347,7 @@ impl<'de> Deserialize<'de> for LaplacianIterations {
 /// Bilateral normal filter parameters (Polylidar3D Eq. 3–5).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
+#[non_exhaustive]
 pub struct BilateralConfig {
     /// Odd cell neighbourhood side, 3 to [`mesh_smooth_gpu::MAX_KERNEL`] (15).
     pub kernel: u32,
@@ -419,6 +423,7 @@ impl From<Backend> for SmoothingBackend {
 /// FastGA parameters (Polylidar3D §6).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
+#[non_exhaustive]
 pub struct FastGaSection {
     /// Icosahedron refinement level (0–7).
     pub level: u32,
@@ -500,6 +505,7 @@ impl FastGaSection {
 /// each finite and ≥ 0.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
+#[non_exhaustive]
 pub struct PostprocessSection {
     /// α: simplification tolerance.
     pub alpha: f64,
@@ -679,7 +685,7 @@ impl Config {
     ///
     /// ```
     /// use polylidar::{Config, LaplacianConfig, PolylidarError};
-    /// let steep = LaplacianConfig { lambda: 2.0, ..LaplacianConfig::default() };
+    /// let steep = LaplacianConfig::default().with_lambda(2.0);
     /// let err = Config::new().with_laplacian(Some(steep)).validate().unwrap_err();
     /// assert!(matches!(err, PolylidarError::Config { field: "laplacian.lambda", .. }));
     /// ```

@@ -33,6 +33,7 @@ pub enum BeamSource {
 /// The window of a scan to keep, seen from the sensor (degrees; see [`FieldOfView`]).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
+#[non_exhaustive]
 pub struct FieldOfViewSection {
     /// Azimuth from +x (forward), counter-clockwise: `[from, to]` within −180–180.
     pub azimuth_deg: [f64; 2],
@@ -53,6 +54,7 @@ impl FieldOfViewSection {
 /// Beam-neighbour outlier removal ([`BeamOutlierConfig`]); lengths in the cloud's unit.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
+#[non_exhaustive]
 pub struct BeamOutlierSection {
     /// Neighbours tested on each side of a point along its beam.
     pub neighbours: usize,
@@ -109,6 +111,7 @@ impl BeamOutlierSection {
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
+#[non_exhaustive]
 pub struct ScanSection {
     /// Keep every n-th point in firing order (2: the paper's halving; 1 keeps all).
     pub keep_every: usize,
@@ -223,7 +226,9 @@ impl ScanSection {
     ///     .map(|k| { let a = (k as f64 * 0.5 + 0.2).to_radians(); [9.0 * a.cos(), 9.0 * a.sin(), -1.7] })
     ///     .collect();
     /// points[100][2] = -1.0;
-    /// let section = ScanSection { keep_every: 2, beam_outliers: Some(Default::default()), ..Default::default() };
+    /// let section = ScanSection::default()
+    ///     .with_keep_every(2)
+    ///     .with_beam_outliers(Some(Default::default()));
     /// let prepared = section.prepare(&points)?;
     /// assert_eq!((prepared.thinned, prepared.outliers), (360, 1));
     /// assert_eq!(prepared.kept().count(), 359);

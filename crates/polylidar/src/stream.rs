@@ -29,6 +29,7 @@ use crate::{Extraction, OrganizedPointCloud, Polylidar, PolylidarError};
 
 /// How a stream runs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
 pub struct StreamOptions {
     /// Frames loaded ahead of the one the pipeline runs, on a loader thread (a bounded
     /// channel holds this many; one more may be being decoded); 0 loads each frame in

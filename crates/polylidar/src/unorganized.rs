@@ -63,10 +63,12 @@ pub const REFINE_COS: f64 = 0.98;
 /// ```
 /// use polylidar::{Config, UnorganizedSection};
 /// let config: Config = toml::from_str("[unorganized]\nk = 12\nvoxel = 0.02").unwrap();
-/// assert_eq!(config.unorganized, Some(UnorganizedSection { k: 12, voxel: 0.02, ..Default::default() }));
+/// let section = UnorganizedSection::default().with_k(12).with_voxel(0.02);
+/// assert_eq!(config.unorganized, Some(section));
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
+#[non_exhaustive]
 pub struct UnorganizedSection {
     /// Nearest neighbours (the point included) for PCA normals, for the pieces each
     /// direction's points split into, and for labelling the points next to a plane.

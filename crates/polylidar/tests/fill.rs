@@ -86,10 +86,11 @@ fn a_wall_riddled_with_missing_returns_is_one_plane_once_filled() {
 #[test]
 fn fill_settings_are_checked() {
     for (min_neighbours, max_spread) in [(0, 0.03), (9, 0.03), (4, -0.1), (4, f64::NAN)] {
-        let config = config(false).with_fill_missing(Some(FillConfig {
-            min_neighbours,
-            max_spread,
-        }));
+        let config = config(false).with_fill_missing(Some(
+            FillConfig::default()
+                .with_min_neighbours(min_neighbours)
+                .with_max_spread(max_spread),
+        ));
         let error = Polylidar::new(config).expect_err("invalid fill");
         assert!(error.to_string().contains("fill_missing"), "{error}");
     }

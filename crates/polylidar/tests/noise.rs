@@ -149,11 +149,11 @@ fn auto_run_records_its_iterations_and_matches_the_fixed_run() {
         .with_z_thresh(0.05)
         .with_threads(2);
     let with = |iterations: LaplacianIterations| {
-        base.clone().with_laplacian(Some(LaplacianConfig {
-            kernel: 5,
-            iterations,
-            ..LaplacianConfig::default()
-        }))
+        base.clone().with_laplacian(Some(
+            LaplacianConfig::default()
+                .with_kernel(5)
+                .with_iterations(iterations),
+        ))
     };
     let auto = Polylidar::new(with(LaplacianIterations::Auto))
         .expect("config")

@@ -22,13 +22,11 @@ fn floor_with_raised_edge(n: usize, raise: f64) -> HalfEdgeMesh {
 }
 
 fn run(z_thresh: f64, refine: bool) -> polylidar::Extraction {
-    let config = Config {
-        refine,
-        z_thresh,
-        norm_thresh: 0.9,
-        min_triangles: 10,
-        ..Config::default()
-    };
+    let config = Config::default()
+        .with_refine(refine)
+        .with_z_thresh(z_thresh)
+        .with_norm_thresh(0.9)
+        .with_min_triangles(10);
     Polylidar::new(config)
         .unwrap()
         .extract_planes_from_mesh(

@@ -15,12 +15,12 @@ use synthscan::{
 /// keeps weak peaks (small planes next to a large floor), like the synpeb preset.
 fn config() -> Config {
     Config::new()
-        .with_fastga(FastGaSection {
-            level: 5,
-            value_threshold: 3.0,
-            min_cluster_weight: 0.01,
-            ..FastGaSection::default()
-        })
+        .with_fastga(
+            FastGaSection::default()
+                .with_level(5)
+                .with_value_threshold(3.0)
+                .with_min_cluster_weight(0.01),
+        )
         .with_lmax(0.15)
         .with_min_triangles(150)
         .with_norm_thresh(0.98)
@@ -296,11 +296,11 @@ fn noisy_room(threads: usize) -> (ScanResult, Extraction) {
     let config = config()
         .with_z_thresh(0.05)
         .with_norm_thresh(0.95)
-        .with_laplacian(Some(LaplacianConfig {
-            kernel: 5,
-            iterations: 4.into(),
-            ..LaplacianConfig::default()
-        }))
+        .with_laplacian(Some(
+            LaplacianConfig::default()
+                .with_kernel(5)
+                .with_iterations(4.into()),
+        ))
         .with_bilateral(Some(BilateralConfig::default()))
         .with_threads(threads);
     let extraction = Polylidar::new(config)

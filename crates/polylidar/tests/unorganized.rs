@@ -291,10 +291,7 @@ fn normals_given_give_the_same_planes_as_normals_estimated() {
 fn voxel_downsampling_keeps_the_planes_and_labels_every_point() {
     let (points, truth) = sample(&box_room(), 60_000, 0.002, 5);
     let mut config = room_config();
-    config.unorganized = Some(UnorganizedSection {
-        voxel: 0.05,
-        ..UnorganizedSection::default()
-    });
+    config.unorganized = Some(UnorganizedSection::default().with_voxel(0.05));
     let extraction = Polylidar::new(config)
         .unwrap()
         .extract_unorganized(&points, None)
