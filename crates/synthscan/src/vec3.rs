@@ -3,46 +3,9 @@
 pub(crate) type V3 = [f64; 3];
 pub(crate) type V2 = [f64; 2];
 
-#[inline]
-pub(crate) fn add(a: V3, b: V3) -> V3 {
-    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
-}
-
-#[inline]
-pub(crate) fn sub(a: V3, b: V3) -> V3 {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-#[inline]
-pub(crate) fn scale(a: V3, s: f64) -> V3 {
-    [a[0] * s, a[1] * s, a[2] * s]
-}
-
-#[inline]
-pub(crate) fn dot(a: V3, b: V3) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-#[inline]
-pub(crate) fn cross(a: V3, b: V3) -> V3 {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-#[inline]
-pub(crate) fn norm(a: V3) -> f64 {
-    dot(a, a).sqrt()
-}
-
-/// `a / |a|`, or `None` when `a` is (nearly) zero or not finite.
-#[inline]
-pub(crate) fn normalize(a: V3) -> Option<V3> {
-    let n = norm(a);
-    (n > 1e-300 && n.is_finite()).then(|| scale(a, 1.0 / n))
-}
+/// `a / |a|`, or `None` when `|a|` is zero, not finite or too small to invert.
+pub(crate) use plane_geom::vec3::unit as normalize;
+pub(crate) use plane_geom::vec3::{add, cross, dot, norm, scale, sub};
 
 /// `a + s b`.
 #[inline]
@@ -68,7 +31,12 @@ pub(crate) fn ring_area(ring: &[V2]) -> f64 {
     0.5 * s
 }
 
-/// Two unit vectors perpendicular to the unit vector `d` and to each other.
+/// Two unit vectors perpendicular to the unit vector `d` and to each other, for the beam
+/// divergence offsets of a scan: `e1 = (d × a) / |d × a|` for the coordinate axis `a`
+/// least aligned with `d`, `e2 = d × e1`. Not `plane_geom::PlaneFrame`'s convention
+/// (whose `e1` is `a` made orthogonal to `d`, a quarter turn away): the seeded synthetic
+/// scans, and the ground truth and published figures made from them, are defined with
+/// this basis, so it stays (see the `plane-geom` README).
 pub(crate) fn perpendicular_basis(d: V3) -> (V3, V3) {
     // Pick the coordinate axis least aligned with `d`.
     let a = if d[0].abs() <= d[1].abs() && d[0].abs() <= d[2].abs() {
