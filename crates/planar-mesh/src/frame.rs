@@ -3,10 +3,16 @@
 
 use nalgebra::{Matrix3, SymmetricEigen, Vector3};
 
+use plane_geom::vec3::dot;
+
 use crate::MeshError;
 
 /// A plane with an orthonormal frame: `origin + x · axis_x + y · axis_y` is the point at
 /// plane coordinates `(x, y)`; `normal = axis_x × axis_y`.
+///
+/// Unlike `plane_geom::PlaneFrame`, whose axes are a function of the normal alone, this
+/// frame is fitted: `axis_x` is the direction of the points' largest spread (PCA), so it
+/// is its own type and keeps its own eigen decomposition order (largest spread first).
 ///
 /// ```
 /// use planar_mesh::PlaneFrame;
@@ -127,11 +133,6 @@ impl PlaneFrame {
             self.normal,
         )
     }
-}
-
-#[inline]
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
 #[cfg(test)]
