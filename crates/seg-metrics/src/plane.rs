@@ -1,4 +1,8 @@
 //! Least-squares plane fitting by the smallest eigenvector of the scatter matrix.
+//!
+//! Written here on purpose rather than taken from `plane-geom` (the workspace's shared
+//! plane, frame and eigen routines): this fit is the independent oracle the scores
+//! judge a segmentation by, so it shares no code with the pipeline it scores.
 
 /// A least-squares plane through a set of points.
 ///
