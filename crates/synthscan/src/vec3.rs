@@ -36,7 +36,7 @@ pub(crate) fn ring_area(ring: &[V2]) -> f64 {
 /// least aligned with `d`, `e2 = d × e1`. Not `plane_geom::PlaneFrame`'s convention
 /// (whose `e1` is `a` made orthogonal to `d`, a quarter turn away): the seeded synthetic
 /// scans, and the ground truth and published figures made from them, are defined with
-/// this basis, so it stays (see the `plane-geom` README).
+/// this basis, so it stays (docs/ARCHITECTURE.md, Conventions).
 pub(crate) fn perpendicular_basis(d: V3) -> (V3, V3) {
     // Pick the coordinate axis least aligned with `d`.
     let a = if d[0].abs() <= d[1].abs() && d[0].abs() <= d[2].abs() {
