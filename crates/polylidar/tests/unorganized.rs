@@ -353,3 +353,64 @@ fn real_clouds_give_planes_in_several_directions() {
         assert!(sloped > 0, "no sloped roof");
     }
 }
+
+/// A patch of the floor whose normals are scrambled (as strong noise would leave them)
+/// takes no part in the triangulation, so the floor polygon has a hole there; its points
+/// still lie on the floor and are labelled with it, from the rim inwards, however deep
+/// the patch (here about fifteen point spacings), while the walls keep their own points.
+#[test]
+fn a_patch_of_scrambled_normals_is_labelled_with_the_plane_around_it() {
+    let scene = box_room();
+    let (points, truth) = sample(&scene, 40_000, 0.0, 7);
+    let planes = scene.ground_truth();
+    let centre = [2.0, 1.5];
+    let in_patch =
+        |p: &[f64; 3], l: i32| l == 0 && (p[0] - centre[0]).hypot(p[1] - centre[1]) < 0.5;
+    let mut rng = rand::rngs::Xoshiro256PlusPlus::seed_from_u64(8);
+    let normals: Vec<[f64; 3]> = points
+        .iter()
+        .zip(&truth)
+        .map(|(p, &l)| {
+            if in_patch(p, l) {
+                let a = rng.random_range(0.0..std::f64::consts::TAU);
+                [a.cos(), a.sin(), 0.0]
+            } else {
+                planes[l as usize].normal
+            }
+        })
+        .collect();
+    let patch: Vec<usize> = (0..points.len())
+        .filter(|&i| in_patch(&points[i], truth[i]))
+        .collect();
+    assert!(patch.len() > 400, "{} patch points", patch.len());
+    let extraction = Polylidar::new(room_config())
+        .unwrap()
+        .extract_unorganized(&points, Some(&normals))
+        .unwrap();
+    let labels = extraction.point_labels();
+    let floor = majority(&extraction, &truth, 6)[0].0;
+    assert!(floor >= 0);
+    let outside_patch = |i: usize| truth[i] == 0 && !patch.contains(&i);
+    let floor_polygon_points = (0..points.len())
+        .filter(|&i| outside_patch(i) && labels[i] == floor)
+        .count();
+    let floor_points = (0..points.len()).filter(|&i| outside_patch(i)).count();
+    assert!(
+        floor_polygon_points * 100 >= floor_points * 99,
+        "{floor_polygon_points} of {floor_points}"
+    );
+    let labelled = patch.iter().filter(|&&i| labels[i] == floor).count();
+    assert_eq!(
+        labelled,
+        patch.len(),
+        "patch points labelled with the floor"
+    );
+    // The walls are not drawn into the floor: only points along their foot go to it.
+    let walls: Vec<usize> = (0..points.len()).filter(|&i| truth[i] >= 2).collect();
+    let strays = walls.iter().filter(|&&i| labels[i] == floor).count();
+    assert!(
+        strays * 200 <= walls.len(),
+        "{strays} of {} wall points",
+        walls.len()
+    );
+}
