@@ -46,7 +46,7 @@ fn jagged_ring(
                 .map(|(k, (a, ph))| a * ((k as f64 + 2.0) * t + ph).sin())
                 .sum();
             let rr = r * (1.0 + wobble) + rng.random_range(-jitter..jitter);
-            let p = frame.to_3d([centre[0] + rr * t.cos(), centre[1] + rr * t.sin()]);
+            let p = frame.lift([centre[0] + rr * t.cos(), centre[1] + rr * t.sin()]);
             let e = rng.random_range(-noise..noise);
             [
                 p[0] + e * plane.normal[0],
