@@ -29,7 +29,7 @@
 //!    wall and the floor) goes to the one whose plane is nearest; a point that none uses
 //!    goes to the nearest plane of its neighbours' polygons when it lies within
 //!    `z_thresh / 2` of it, round after round from the points so labelled until none
-//!    joins (at most [`RIM_ROUNDS`]), so that a patch of points whose noisy normals kept
+//!    joins (at most 64 rounds), so that a patch of points whose noisy normals kept
 //!    them out of the triangulation is filled from its rim; with voxels, every input
 //!    point takes its voxel's polygon when it lies within that distance of its plane.
 
