@@ -71,7 +71,9 @@ pub struct InputArgs {
     /// 8 Laplacian iterations), synpeb-auto (iterations from the measured noise, for range
     /// scanners), rgbd-auto (the same with passes growing with range and missing returns
     /// filled, for depth cameras), rooftop, kitti, kitti-range, mesh-basement,
-    /// mesh-mainfloor. Their lengths are metres, converted into `--units`. Default without
+    /// mesh-mainfloor, room (unorganized indoor clouds, planes in every direction), aerial
+    /// (airborne LiDAR on the same 3D path). Their lengths are metres, converted into
+    /// `--units`. Default without
     /// `--config`: `rgbd-auto` for depth images, `synpeb-auto` for other organized clouds and
     /// `--demo scene`; none for other inputs (the defaults below, lengths from the data).
     #[arg(long, value_name = "NAME")]

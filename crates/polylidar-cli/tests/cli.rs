@@ -410,3 +410,26 @@ fn bad_input_gives_clear_errors() {
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("collinear"));
 }
+
+/// `extract --help` names every preset the library knows, so that the list written in the
+/// flag's help cannot fall behind `polylidar::Preset`.
+#[test]
+fn the_preset_help_names_every_preset() {
+    let out = polylidar(&["extract", "--help"]);
+    assert!(out.status.success());
+    let help = String::from_utf8(out.stdout).unwrap();
+    let start = help.find("--preset <NAME>").expect("the --preset flag");
+    let end = help[start..]
+        .find("--units")
+        .map_or(help.len(), |e| start + e);
+    let words: Vec<&str> = help[start..end]
+        .split(|c: char| !(c.is_ascii_alphanumeric() || c == '-'))
+        .collect();
+    for preset in polylidar::Preset::all() {
+        let name = preset.to_string();
+        assert!(
+            words.contains(&name.as_str()),
+            "`{name}` missing from the --preset help"
+        );
+    }
+}
