@@ -1063,20 +1063,24 @@ mod tests {
 
     #[test]
     fn the_gpu_backend_needs_the_gpu_feature() {
-        let gpu = laplacian(LaplacianConfig::default().with_backend(SmoothingBackend::Gpu));
-        let expected = if cfg!(feature = "gpu") {
-            "accepted"
-        } else {
-            "laplacian.backend"
-        };
-        assert_eq!(refused(gpu), expected);
-        let gpu = bilateral(BilateralConfig::default().with_backend(SmoothingBackend::Gpu));
-        let expected = if cfg!(feature = "gpu") {
-            "accepted"
-        } else {
-            "bilateral.backend"
-        };
-        assert_eq!(refused(gpu), expected);
+        let cases = [
+            (
+                laplacian(LaplacianConfig::default().with_backend(SmoothingBackend::Gpu)),
+                "laplacian.backend",
+            ),
+            (
+                bilateral(BilateralConfig::default().with_backend(SmoothingBackend::Gpu)),
+                "bilateral.backend",
+            ),
+        ];
+        for (gpu, field) in cases {
+            let expected = if cfg!(feature = "gpu") {
+                "accepted"
+            } else {
+                field
+            };
+            assert_eq!(refused(gpu), expected);
+        }
     }
 
     #[test]
