@@ -324,12 +324,7 @@ pub(crate) fn refine(
     config: &SegmentationConfig,
 ) -> Refined {
     let Some(normals) = mesh.triangle_normals() else {
-        let mut labels = vec![NONE; mesh.num_triangles()];
-        for (s, g) in grown.iter().enumerate() {
-            for &t in &g.triangles {
-                labels[t as usize] = s as u32;
-            }
-        }
+        let labels = labels_of(&grown, mesh.num_triangles());
         let all: Vec<u32> = grown
             .iter()
             .flat_map(|g| g.triangles.iter().copied())
@@ -364,12 +359,7 @@ pub(crate) fn refine(
         },
         norm_thresh: config.norm_thresh,
     };
-    let mut labels = vec![NONE; mesh.num_triangles()];
-    for (s, g) in grown.iter().enumerate() {
-        for &t in &g.triangles {
-            labels[t as usize] = s as u32;
-        }
-    }
+    let mut labels = labels_of(&grown, mesh.num_triangles());
     let survey = Survey::of(&m, &labels, grown.len());
     let grown_planes: Vec<Option<Plane>> = survey.sums.iter().map(PlaneSums::plane).collect();
     let seeds = survey.edges;
@@ -439,6 +429,17 @@ pub(crate) fn refine(
         free_planes,
         merged,
     }
+}
+
+/// Per triangle (of `n`), the index of the grown segment it is in, or [`NONE`].
+fn labels_of(grown: &[Grown], n: usize) -> Vec<u32> {
+    let mut labels = vec![NONE; n];
+    for (s, g) in grown.iter().enumerate() {
+        for &t in &g.triangles {
+            labels[t as usize] = s as u32;
+        }
+    }
+    labels
 }
 
 /// The boundary half-edges of segments `0..count` (twin in another segment, free or
