@@ -2,8 +2,8 @@
 //! eigen-decomposition, known planes, and a brute-force voxel grouping.
 
 use cloud_normals::{
-    Neighbours, NormalsError, Orientation, estimate_normals, orient, plane_normal,
-    smallest_eigenvector, voxel_downsample,
+    Neighbours, NormalsError, Orientation, estimate_normals, neighbourhood_noise, orient,
+    plane_normal, smallest_eigenvector, voxel_downsample,
 };
 use nalgebra::{Matrix3, SymmetricEigen};
 use proptest::prelude::*;
@@ -208,6 +208,90 @@ fn bad_clouds_are_errors() {
         voxel_downsample(&[[0.0; 3], [1e9, 0.0, 0.0]], 1e-3),
         Err(NormalsError::TooManyVoxels { .. })
     ));
+}
+
+/// A tilted 60 × 60 plane on a grid of step `h` with uniform noise of `±amplitude` along
+/// its normal, moved by a rotation and a far offset.
+fn noisy_plane(h: f64, amplitude: f64, seed: u64) -> Vec<[f64; 3]> {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let (c, s) = (0.6f64, 0.8f64);
+    (0..3600)
+        .map(|i| {
+            let (u, v) = (h * (i % 60) as f64, h * (i / 60) as f64);
+            let w = amplitude * rng.random_range(-1.0..1.0);
+            // Rotated about x by the angle of cos 0.6, then offset.
+            [u + 1e3, c * v - s * w + 2e3, s * v + c * w - 5e2]
+        })
+        .collect()
+}
+
+/// The noise estimate from its definition with nalgebra's eigenvalues: the median over
+/// every point of `√λ₀ / (λ₁λ₂)^¼` of its neighbourhood.
+fn noise_by_nalgebra(points: &[[f64; 3]], knn: &Neighbours) -> f64 {
+    let mut values: Vec<f64> = (0..points.len())
+        .map(|i| {
+            let around: Vec<[f64; 3]> = knn.of(i).iter().map(|&v| points[v as usize]).collect();
+            let n = around.len() as f64;
+            let mean: [f64; 3] =
+                std::array::from_fn(|a| around.iter().map(|p| p[a]).sum::<f64>() / n);
+            let mut m = Matrix3::zeros();
+            for p in &around {
+                let d = nalgebra::Vector3::new(p[0] - mean[0], p[1] - mean[1], p[2] - mean[2]);
+                m += d * d.transpose() / n;
+            }
+            let mut e: Vec<f64> = SymmetricEigen::new(m).eigenvalues.iter().copied().collect();
+            e.sort_by(f64::total_cmp);
+            e[0].max(0.0).sqrt() / (e[1] * e[2]).sqrt().sqrt()
+        })
+        .collect();
+    values.sort_by(f64::total_cmp);
+    values[values.len() / 2]
+}
+
+#[test]
+fn noise_estimate_matches_its_definition_and_grows_with_the_noise() {
+    let mut last = 0.0;
+    for (step, amplitude) in [0.0, 0.002, 0.005, 0.01, 0.02].into_iter().enumerate() {
+        let points = noisy_plane(0.01, amplitude, step as u64);
+        let knn = Neighbours::new(&points, 12).unwrap();
+        // 3600 points: every one is sampled.
+        let estimate = neighbourhood_noise(&points, &knn).unwrap();
+        let oracle = noise_by_nalgebra(&points, &knn);
+        assert!(
+            (estimate - oracle).abs() <= 1e-6 * oracle.max(1e-3),
+            "{estimate} vs {oracle}"
+        );
+        if amplitude == 0.0 {
+            assert!(estimate < 1e-5, "noise-free: {estimate}");
+        } else {
+            assert!(estimate > last, "{amplitude}: {estimate} after {last}");
+        }
+        last = estimate;
+    }
+}
+
+#[test]
+fn noise_estimate_does_not_depend_on_the_unit_or_the_spacing() {
+    // The same plane in metres and in millimetres, and sampled twice as densely with the
+    // noise scaled alike: one estimate.
+    let metres = noisy_plane(0.01, 0.004, 7);
+    let millimetres: Vec<[f64; 3]> = metres.iter().map(|p| p.map(|c| c * 1e3)).collect();
+    let dense = noisy_plane(0.005, 0.002, 7);
+    let e = |points: &[[f64; 3]]| {
+        neighbourhood_noise(points, &Neighbours::new(points, 12).unwrap()).unwrap()
+    };
+    let (a, b, c) = (e(&metres), e(&millimetres), e(&dense));
+    assert!((a - b).abs() < 1e-9 * a, "{a} vs {b}");
+    assert!((a - c).abs() < 1e-9 * a, "{a} vs {c}");
+}
+
+#[test]
+fn noise_estimate_of_a_line_is_none() {
+    let line: Vec<[f64; 3]> = (0..50).map(|i| [i as f64, 2.0 * i as f64, 0.0]).collect();
+    assert_eq!(
+        neighbourhood_noise(&line, &Neighbours::new(&line, 6).unwrap()),
+        None
+    );
 }
 
 proptest! {

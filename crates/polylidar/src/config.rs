@@ -1048,7 +1048,7 @@ mod tests {
                 "unorganized.k",
             ),
             (
-                unorganized(UnorganizedSection::default().with_smoothing(1001)),
+                unorganized(UnorganizedSection::default().with_smoothing(1001.into())),
                 "unorganized.smoothing",
             ),
         ];

@@ -51,8 +51,9 @@ pub struct Counts {
     pub beam_outliers: usize,
     /// 3D organized clouds: missing pixels filled ([`crate::Config::fill_missing`]).
     pub filled: usize,
-    /// 3D organized clouds: Laplacian passes run (the configured count, or the one
-    /// predicted for `iterations = "auto"`); 0 without Laplacian smoothing.
+    /// 3D clouds: Laplacian passes run (the configured count, or the one predicted for
+    /// `iterations = "auto"`; on the unorganized path the point-smoothing passes of
+    /// `unorganized.smoothing`); 0 without smoothing.
     pub laplacian_iterations: u32,
 }
 

@@ -72,7 +72,7 @@ pub use mesh::PlanarMeshes;
 pub use noise::{
     CORRELATION_STRIDE, MAX_AUTO_ITERATIONS, WHITE_NOISE_RATIO, auto_laplacian_iterations,
     estimate_noise, estimate_noise_absolute, estimate_noise_correlation, passes_by_range,
-    predict_laplacian_iterations,
+    predict_laplacian_iterations, predict_smoothing_passes,
 };
 pub use opc_mesh::{
     DepthOptions, Intrinsics, OpcError, OrganizedPointCloud, OrganizedPointCloudView,

@@ -85,6 +85,35 @@ pub fn predict_laplacian_iterations(noise: f64) -> u32 {
     passes(MODEL_INTERCEPT + MODEL_SLOPE * noise)
 }
 
+/// Intercept of the trained model `passes ≈ A + B · neighbourhood_noise(cloud)` behind
+/// `unorganized.smoothing = "auto"`.
+///
+/// Obtained by `cargo run --release -p polylidar --example train_unorganized_smoothing`:
+/// seeds 0–3 of `synthscan::synpeb_like` at 1 mdeg of tangential and 0, 5, 10, 20 or
+/// 30 mm of radial noise, each scan shuffled into an unorganized cloud, the `room` preset
+/// run with 0, 1, 2, 4, 6, 8, 10, 12 and 16 passes; per noise level the count with the
+/// best mean f (0, 1, 6, 10, 12 passes at mean estimates 0.003, 0.22, 0.39, 0.54, 0.59),
+/// and a least-squares line through them: RMS residual 1.3 passes. Rerun that command to
+/// regenerate (it prints the fit).
+const SMOOTHING_INTERCEPT: f64 = -1.6189;
+/// Slope of the trained smoothing model (passes per unit of relative noise); see
+/// [`SMOOTHING_INTERCEPT`].
+const SMOOTHING_SLOPE: f64 = 21.1431;
+
+/// The point-smoothing passes the trained linear model predicts for an unorganized cloud
+/// whose [`cloud_normals::neighbourhood_noise`] is `noise` (the unorganized path's
+/// `smoothing = "auto"`): `round(A + B · noise)` clamped to
+/// `0..=`[`MAX_AUTO_ITERATIONS`] (0: no smoothing).
+///
+/// ```
+/// use polylidar::predict_smoothing_passes;
+/// assert_eq!(predict_smoothing_passes(0.0), 0);
+/// assert!(predict_smoothing_passes(0.5) > predict_smoothing_passes(0.1));
+/// ```
+pub fn predict_smoothing_passes(noise: f64) -> u32 {
+    passes(SMOOTHING_INTERCEPT + SMOOTHING_SLOPE * noise)
+}
+
 /// `predicted` rounded to a pass count in `0..=`[`MAX_AUTO_ITERATIONS`] (0 when not
 /// positive or not finite).
 fn passes(predicted: f64) -> u32 {

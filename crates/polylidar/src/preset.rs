@@ -89,7 +89,8 @@ pub enum Preset {
     MeshMainfloor,
     /// `room` (ours): unorganized indoor clouds — scans with the grid dropped, merged
     /// views, SLAM maps — on the unorganized 3D path ([`Config::unorganized`], its
-    /// defaults): FastGA level 4, v_min 5, d_peak 0.15, weight 0.01; lmax 0.1,
+    /// defaults but `smoothing = "auto"`: passes predicted from the cloud's noise):
+    /// FastGA level 4, v_min 5, d_peak 0.15, weight 0.01; lmax 0.1,
     /// min_triangles 250, min_area 0.015, z 0.07, norm 0.95, hole vertices 10, refinement
     /// on (a wall seen between objects is one plane).
     Room,
@@ -276,7 +277,10 @@ impl Preset {
                 min_hole_vertices: 10,
                 min_area: 0.015,
                 refine: true,
-                unorganized: Some(crate::UnorganizedSection::default()),
+                unorganized: Some(
+                    crate::UnorganizedSection::default()
+                        .with_smoothing(crate::LaplacianIterations::Auto),
+                ),
                 ..base
             },
             Preset::Aerial => Config {

@@ -36,14 +36,18 @@
 use std::borrow::Cow;
 
 use cloud_normals::{
-    Neighbours, Orientation, estimate_normals, orient, smooth_points, voxel_downsample,
+    Neighbours, Orientation, estimate_normals, neighbourhood_noise, orient, smooth_points,
+    voxel_downsample,
 };
 use halfedge_mesh::{HalfEdgeMesh, MeshError, NO_TWIN};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::config::setters;
-use crate::{Config, Counts, Extraction, Polylidar, PolylidarError, Timings};
+use crate::{
+    Config, Counts, Extraction, LaplacianIterations, Polylidar, PolylidarError, Timings,
+    predict_smoothing_passes,
+};
 
 /// Directions at most.
 pub const MAX_DIRECTIONS: usize = 64;
@@ -87,9 +91,13 @@ pub struct UnorganizedSection {
     pub rounds: usize,
     /// Passes of Laplacian smoothing of the points over their `k` nearest neighbours
     /// before normals are estimated and the points triangulated (noisy scans; edges round
-    /// off by about a neighbourhood's radius). At most
-    /// [`mesh_smooth_gpu::MAX_ITERATIONS`] (1000). Default 0.
-    pub smoothing: u32,
+    /// off by about a neighbourhood's radius): a count of at most
+    /// [`mesh_smooth_gpu::MAX_ITERATIONS`] (1000), or [`LaplacianIterations::Auto`] (in
+    /// TOML `smoothing = "auto"`), predicted per cloud from its
+    /// [`cloud_normals::neighbourhood_noise`] by
+    /// [`crate::predict_smoothing_passes`] (0 on clean clouds). The count run is reported
+    /// in [`crate::Counts::laplacian_iterations`]. Default 0.
+    pub smoothing: LaplacianIterations,
 }
 
 impl Default for UnorganizedSection {
@@ -99,7 +107,7 @@ impl Default for UnorganizedSection {
             voxel: 0.0,
             viewpoint: None,
             rounds: 3,
-            smoothing: 0,
+            smoothing: LaplacianIterations::Fixed(0),
         }
     }
 }
@@ -109,7 +117,7 @@ setters!(UnorganizedSection {
     with_voxel => voxel: f64,
     with_viewpoint => viewpoint: Option<[f64; 3]>,
     with_rounds => rounds: usize,
-    with_smoothing => smoothing: u32,
+    with_smoothing => smoothing: LaplacianIterations,
 });
 
 impl UnorganizedSection {
@@ -138,7 +146,9 @@ impl UnorganizedSection {
         if self.rounds == 0 {
             return bad("unorganized.rounds", "0".to_owned(), "must be at least 1");
         }
-        if self.smoothing > mesh_smooth_gpu::MAX_ITERATIONS {
+        if let LaplacianIterations::Fixed(n) = self.smoothing
+            && n > mesh_smooth_gpu::MAX_ITERATIONS
+        {
             return bad(
                 "unorganized.smoothing",
                 self.smoothing.to_string(),
@@ -226,15 +236,21 @@ impl Polylidar {
             Some(_) => Cow::Owned(work.iter().map(|&i| points[i as usize]).collect()),
             None => Cow::Borrowed(points),
         };
-        let (knn, smoothed, wnormals) = timings.time("normals", || {
+        let Working {
+            knn,
+            passes,
+            smoothed,
+            normals: wnormals,
+        } = timings.time("normals", || {
             working_normals(&wpoints, &work, normals, section, config.up)
         })?;
+        let was_smoothed = smoothed.is_some();
         let wpoints = smoothed.map_or(wpoints, Cow::Owned);
         // The mesh's vertices: the input points, the working ones smoothed.
-        let geometry: Cow<'_, [[f64; 3]]> = match (section.smoothing, &voxels) {
-            (0, _) => Cow::Borrowed(points),
-            (_, None) => Cow::Borrowed(&wpoints),
-            (_, Some(_)) => {
+        let geometry: Cow<'_, [[f64; 3]]> = match (was_smoothed, &voxels) {
+            (false, _) => Cow::Borrowed(points),
+            (true, None) => Cow::Borrowed(&wpoints),
+            (true, Some(_)) => {
                 let mut all = points.to_vec();
                 for (&i, p) in work.iter().zip(wpoints.iter()) {
                     all[i as usize] = *p;
@@ -264,6 +280,7 @@ impl Polylidar {
         let counts = Counts {
             points: points.len(),
             duplicate_points,
+            laplacian_iterations: passes,
             ..Counts::default()
         };
         let mut extraction = self.extract_planes(mesh, Some(directions), counts, timings)?;
@@ -517,7 +534,13 @@ fn working_normals(
     up: [f64; 3],
 ) -> Result<Working, PolylidarError> {
     let knn = Neighbours::new(wpoints, section.k)?;
-    let smoothed = (section.smoothing > 0).then(|| smooth_points(wpoints, &knn, section.smoothing));
+    let passes = match section.smoothing {
+        LaplacianIterations::Fixed(n) => n,
+        LaplacianIterations::Auto => {
+            neighbourhood_noise(wpoints, &knn).map_or(0, predict_smoothing_passes)
+        }
+    };
+    let smoothed = (passes > 0).then(|| smooth_points(wpoints, &knn, passes));
     let wpoints = smoothed.as_deref().unwrap_or(wpoints);
     let mut wnormals = match normals {
         Some(given) => work
@@ -542,12 +565,24 @@ fn working_normals(
         };
         orient(wpoints, &mut wnormals, orientation)?;
     }
-    Ok((knn, smoothed, wnormals))
+    Ok(Working {
+        knn,
+        passes,
+        smoothed,
+        normals: wnormals,
+    })
 }
 
-/// The working points' neighbours, their smoothed positions (with
-/// [`UnorganizedSection::smoothing`]) and their unit normals.
-type Working = (Neighbours, Option<Vec<[f64; 3]>>, Vec<[f64; 3]>);
+/// The working points' neighbours, smoothing passes run, smoothed positions and unit
+/// normals.
+struct Working {
+    knn: Neighbours,
+    /// Smoothing passes run ([`UnorganizedSection::smoothing`], predicted for `Auto`).
+    passes: u32,
+    /// The smoothed points; `None` without smoothing.
+    smoothed: Option<Vec<[f64; 3]>>,
+    normals: Vec<[f64; 3]>,
+}
 
 /// What splitting the points by direction and into connected pieces needs.
 struct Pieces<'a> {

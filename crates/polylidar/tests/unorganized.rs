@@ -4,7 +4,7 @@
 
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-use polylidar::{Config, Extraction, Polylidar, UnorganizedSection};
+use polylidar::{Config, Extraction, LaplacianIterations, Polylidar, UnorganizedSection};
 use rand::{RngExt, SeedableRng};
 use synthscan::{Polygon3d, Scene};
 
@@ -412,5 +412,47 @@ fn a_patch_of_scrambled_normals_is_labelled_with_the_plane_around_it() {
         strays * 200 <= walls.len(),
         "{strays} of {} wall points",
         walls.len()
+    );
+}
+
+#[test]
+fn smoothing_auto_runs_no_pass_on_a_clean_cloud_and_enough_on_a_noisy_one() {
+    let scene = box_room();
+    let run = |sigma: f64, smoothing: LaplacianIterations| {
+        let (points, truth) = sample(&scene, 60_000, sigma, 5);
+        let mut config = room_config();
+        let section = config.unorganized.unwrap().with_smoothing(smoothing);
+        config = config.with_unorganized(Some(section));
+        let extraction = Polylidar::new(config)
+            .unwrap()
+            .extract_unorganized(&points, None)
+            .unwrap();
+        let found = majority(&extraction, &truth, 6);
+        (extraction, found)
+    };
+    assert_eq!(
+        Config::preset("room")
+            .unwrap()
+            .unorganized
+            .unwrap()
+            .smoothing,
+        LaplacianIterations::Auto
+    );
+    let (clean, _) = run(0.003, LaplacianIterations::Auto);
+    assert_eq!(clean.diagnostics.counts.laplacian_iterations, 0);
+    // About 1 cm of noise per axis at a 3 cm spacing.
+    let (noisy, found) = run(0.02, LaplacianIterations::Auto);
+    let passes = noisy.diagnostics.counts.laplacian_iterations;
+    assert!(passes >= 3, "{passes} passes");
+    let mut polygons: Vec<i32> = found.iter().map(|&(p, _)| p).collect();
+    polygons.sort_unstable();
+    polygons.dedup();
+    assert_eq!(polygons.len(), 6, "one polygon per face: {found:?}");
+    let (_, unsmoothed) = run(0.02, LaplacianIterations::Fixed(0));
+    let share = |found: &[(i32, f64)]| found.iter().map(|f| f.1).sum::<f64>() / 6.0;
+    println!("{passes} passes: {found:?}; none: {unsmoothed:?}");
+    assert!(
+        share(&found) > share(&unsmoothed),
+        "{found:?} vs {unsmoothed:?}"
     );
 }

@@ -16,10 +16,11 @@ use crate::error::{Result, msg};
 use crate::report::{PAPER_HARDWARE, Section, Table};
 use crate::tables::accuracy::{mean, preset_pipeline, run_frame, suite_seeds};
 
-/// The scores, size and time of one cloud.
+/// The scores, size, smoothing passes and time of one cloud.
 struct Scored {
     eval: Evaluation,
     points: f64,
+    passes: u32,
     ms: f64,
 }
 
@@ -27,9 +28,6 @@ use crate::timing::{measure, ms};
 
 /// Tangential noise of the scenes, as Table 10's key row.
 const MDEG: f64 = 1.0;
-
-/// Smoothing passes for the noisy scenes.
-const SMOOTHING: u32 = 4;
 
 /// Runs Table 10u.
 ///
@@ -49,16 +47,12 @@ pub fn run(ctx: &Ctx) -> Result<Section> {
         "f [%]",
         "k [%]",
         "n_s",
+        "smoothing passes",
         "time (median)",
     ]);
     for radial in [radial, 0.0] {
         let scene_name = format!("SynPEB-like, {MDEG} mdeg, radial {} mm", radial * 1e3);
-        let smoothing = if radial > 0.0 { SMOOTHING } else { 0 };
-        let path = if smoothing > 0 {
-            format!("3D, `room`, smoothing {smoothing}")
-        } else {
-            "3D, `room`".to_owned()
-        };
+        let path = "3D, `room`";
         let mut organized_rows = Vec::new();
         let mut single = Vec::new();
         let mut merged = Vec::new();
@@ -75,13 +69,14 @@ pub fn run(ctx: &Ctx) -> Result<Section> {
             organized_rows.push(Scored {
                 eval: scored.eval,
                 points,
+                passes: scored.iterations,
                 ms: scored.ms,
             });
             let viewpoint = Some(cloud.viewpoints[0]);
-            single.push(run_cloud(&room(threads, viewpoint, smoothing)?, &cloud)?);
+            single.push(run_cloud(&room(threads, viewpoint)?, &cloud)?);
             let (scene, sensors) = synthscan::synpeb_like_views(seed, views)?;
             let cloud = scene.scan_views(&sensors, &Noise::new(radial, MDEG, seed), seed)?;
-            merged.push(run_cloud(&room(threads, None, smoothing)?, &cloud)?);
+            merged.push(run_cloud(&room(threads, None)?, &cloud)?);
         }
         table.row(score_row(
             &scene_name,
@@ -90,12 +85,12 @@ pub fn run(ctx: &Ctx) -> Result<Section> {
         ));
         table.row(score_row(
             &format!("{scene_name}, unorganized (shuffled)"),
-            &path,
+            path,
             &single,
         ));
         table.row(score_row(
             &format!("{scene_name}, {views} views merged"),
-            &path,
+            path,
             &merged,
         ));
     }
@@ -145,7 +140,7 @@ pub fn run(ctx: &Ctx) -> Result<Section> {
     let (scene, sensors) = synthscan::synpeb_like_views(seeds[0], views)?;
     let cloud = scene.scan_views(&sensors, &Noise::new(radial, MDEG, seeds[0]), seeds[0])?;
     for (name, polylidar) in [
-        ("`room`", room(threads, None, SMOOTHING)?),
+        ("`room`", room(threads, None)?),
         ("`room`, voxel 2 cm", room_voxel(threads, 0.02)?),
     ] {
         let mut planes = 0;
@@ -173,8 +168,10 @@ pub fn run(ctx: &Ctx) -> Result<Section> {
  (`synthscan::synpeb_like`, seeds {}–{}, {} frames, {MDEG} mdeg tangential and {} mm \
          radial noise, and noise-free), scored like Table 10 (Hoover et al., 80 % overlap; f = % of planes \
          found, k = % of points in found planes, n_s = spurious planes per frame). \
-         The noisy scenes run with 4 passes of point smoothing over the 12 nearest \
-         neighbours (`UnorganizedSection::smoothing`), the noise-free ones without. \
+         The preset smooths the points over their 12 nearest neighbours as many passes \
+         as its model predicts from each cloud's noise (`smoothing = \"auto\"`, \
+         `polylidar::predict_smoothing_passes`; the mean count run is in the table; \
+         organized rows: the Laplacian passes of `iterations = \"auto\"`). \
          \"organized\" is the organized path on the same scans; \"unorganized (shuffled)\" \
          the same scans with the image grid dropped, invalid pixels removed and the points \
          shuffled (`ScanResult::to_unorganized`; normals turned towards the sensor); \
@@ -203,15 +200,13 @@ pub fn run(ctx: &Ctx) -> Result<Section> {
     })
 }
 
-/// The `room` preset on `threads` threads, normals turned towards `viewpoint` if given,
-/// with `smoothing` passes.
-fn room(threads: usize, viewpoint: Option<[f64; 3]>, smoothing: u32) -> Result<Polylidar> {
+/// The `room` preset on `threads` threads, normals turned towards `viewpoint` if given.
+fn room(threads: usize, viewpoint: Option<[f64; 3]>) -> Result<Polylidar> {
     let mut config = Config::preset("room")
         .ok_or_else(|| msg("no room preset"))?
         .with_threads(threads);
     if let Some(section) = &mut config.unorganized {
         section.viewpoint = viewpoint;
-        section.smoothing = smoothing;
     }
     Ok(Polylidar::new(config)?)
 }
@@ -223,7 +218,6 @@ fn room_voxel(threads: usize, voxel: f64) -> Result<Polylidar> {
         .with_threads(threads);
     if let Some(section) = &mut config.unorganized {
         section.voxel = voxel;
-        section.smoothing = SMOOTHING;
     }
     Ok(Polylidar::new(config)?)
 }
@@ -236,6 +230,7 @@ fn run_cloud(polylidar: &Polylidar, cloud: &UnorganizedCloud) -> Result<Scored> 
     Ok(Scored {
         eval: score(cloud, &extraction)?,
         points: cloud.points.len() as f64,
+        passes: extraction.diagnostics.counts.laplacian_iterations,
         ms,
     })
 }
@@ -263,6 +258,7 @@ fn score_row(data: &str, path: &str, scored: &[Scored]) -> Vec<String> {
         m(&|e| e.f),
         m(&|e| e.k),
         m(&|e| e.spurious as f64),
+        format!("{:.1}", mean(scored.iter().map(|s| f64::from(s.passes)))),
         times
             .get(times.len() / 2)
             .map_or_else(|| "–".to_owned(), |&t| ms(t)),
