@@ -9,7 +9,9 @@
 //! * [`orient`]: normals flipped towards a viewpoint (the sensor) or into the half-space
 //!   of a direction (up, for airborne data);
 //! * [`voxel_downsample`]: one representative point per voxel, for dense clouds;
-//! * [`neighbourhood_noise`]: how noisy the surfaces are, relative to the point spacing.
+//! * [`neighbourhood_noise`]: how noisy the surfaces are, relative to the point spacing;
+//! * [`spatial_order`]: a Morton order, so that neighbourhood passes over a shuffled cloud
+//!   read memory in order.
 //!
 //! Nothing here depends on the rest of the pipeline; Polylidar's unorganized 3D path uses
 //! it to find the planes of a cloud in every direction.
@@ -31,6 +33,7 @@
 mod error;
 mod knn;
 mod noise;
+mod order;
 mod orient;
 mod pca;
 mod voxel;
@@ -38,6 +41,7 @@ mod voxel;
 pub use error::NormalsError;
 pub use knn::Neighbours;
 pub use noise::{NOISE_SAMPLES, neighbourhood_noise};
+pub use order::spatial_order;
 pub use orient::{Orientation, SIDE_COS, orient};
 pub use pca::{estimate_normals, plane_normal, smallest_eigenvector, smooth_points};
 pub use voxel::{Voxels, voxel_downsample};

@@ -22,6 +22,8 @@ const PAR_CHUNK: usize = 4096;
 ///   the other way) or [`NO_TWIN`].
 /// * `triangle_normals`, when present, has one unit normal per triangle.
 ///
+/// The default is the empty mesh.
+///
 /// # Example
 /// ```
 /// use halfedge_mesh::{HalfEdgeMesh, NO_TWIN};
@@ -34,7 +36,7 @@ const PAR_CHUNK: usize = 4096;
 /// mesh.sanity_check()?;
 /// # Ok::<(), halfedge_mesh::MeshError>(())
 /// ```
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, Default, PartialEq)]
 pub struct HalfEdgeMesh {
     pub(crate) vertices: Vec<[f64; 3]>,
     pub(crate) triangles: Vec<[u32; 3]>,

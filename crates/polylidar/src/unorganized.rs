@@ -7,7 +7,10 @@
 //! vector and so finds only the planes that face it — the limit the Polylidar3D paper
 //! names (§10). This path lifts it:
 //!
-//! 1. optional voxel downsampling ([`UnorganizedSection::voxel`]);
+//! 1. optional voxel downsampling ([`UnorganizedSection::voxel`]); the points kept put
+//!    in Morton order ([`cloud_normals::spatial_order`]), so that the neighbourhood
+//!    passes below read memory mostly in order on a shuffled cloud (the returned mesh
+//!    and labels are in the input order);
 //! 2. normals: the caller's (a file's `normal_x/y/z`, `nx/ny/nz`), or PCA of the `k`
 //!    nearest neighbours ([`cloud_normals`]), oriented towards
 //!    [`UnorganizedSection::viewpoint`] or into the half-space of [`Config::up`];
@@ -33,11 +36,9 @@
 //!    them out of the triangulation is filled from its rim; with voxels, every input
 //!    point takes its voxel's polygon when it lies within that distance of its plane.
 
-use std::borrow::Cow;
-
 use cloud_normals::{
     Neighbours, Orientation, estimate_normals, neighbourhood_noise, orient, smooth_points,
-    voxel_downsample,
+    spatial_order, voxel_downsample,
 };
 use halfedge_mesh::{HalfEdgeMesh, MeshError, NO_TWIN};
 use rayon::prelude::*;
@@ -227,15 +228,24 @@ impl Polylidar {
             true => Some(timings.time("voxel", || voxel_downsample(points, section.voxel))?),
             false => None,
         };
-        // The working points: all, or one per voxel (`work[w]` is its input index).
-        let work: Vec<u32> = match &voxels {
-            Some(v) => v.representatives.clone(),
-            None => (0..points.len() as u32).collect(),
-        };
-        let wpoints: Cow<'_, [[f64; 3]]> = match &voxels {
-            Some(_) => Cow::Owned(work.iter().map(|&i| points[i as usize]).collect()),
-            None => Cow::Borrowed(points),
-        };
+        // The working points: all, or one per voxel, in Morton order (`work[w]` is the
+        // input index of working point `w`): every neighbourhood pass below then reads
+        // memory mostly in order, where a shuffled cloud would jump through it.
+        let work: Vec<u32> = timings.time("order", || match &voxels {
+            Some(v) => {
+                let kept: Vec<[f64; 3]> = v
+                    .representatives
+                    .iter()
+                    .map(|&i| points[i as usize])
+                    .collect();
+                spatial_order(&kept)
+                    .into_iter()
+                    .map(|r| v.representatives[r as usize])
+                    .collect()
+            }
+            None => spatial_order(points),
+        });
+        let wpoints: Vec<[f64; 3]> = work.iter().map(|&i| points[i as usize]).collect();
         let Working {
             knn,
             passes,
@@ -244,20 +254,7 @@ impl Polylidar {
         } = timings.time("normals", || {
             working_normals(&wpoints, &work, normals, section, config.up)
         })?;
-        let was_smoothed = smoothed.is_some();
-        let wpoints = smoothed.map_or(wpoints, Cow::Owned);
-        // The mesh's vertices: the input points, the working ones smoothed.
-        let geometry: Cow<'_, [[f64; 3]]> = match (was_smoothed, &voxels) {
-            (false, _) => Cow::Borrowed(points),
-            (true, None) => Cow::Borrowed(&wpoints),
-            (true, Some(_)) => {
-                let mut all = points.to_vec();
-                for (&i, p) in work.iter().zip(wpoints.iter()) {
-                    all[i as usize] = *p;
-                }
-                Cow::Owned(all)
-            }
-        };
+        let wpoints = smoothed.unwrap_or(wpoints);
         let directions = timings.time("fastga", || self.directions(&wnormals, &knn))?;
         let pieces = Pieces {
             points: &wpoints,
@@ -276,7 +273,7 @@ impl Polylidar {
                 (config.min_triangles / 2).max(3)
             },
         };
-        let (mesh, duplicate_points) = timings.time("mesh", || pieces.mesh(&geometry, &work))?;
+        let (mesh, duplicate_points) = timings.time("mesh", || pieces.mesh())?;
         let counts = Counts {
             points: points.len(),
             duplicate_points,
@@ -292,9 +289,11 @@ impl Polylidar {
         };
         let mut label_timing = Timings::default();
         let fitted = label_timing.time("labels", || {
-            fitted_labels(&extraction, &geometry, &work, &knn, voxels.as_ref(), rim)
+            let labels = fitted_labels(&extraction, &knn, rim);
+            input_labels(&extraction, &labels, points, &work, voxels.as_ref(), rim)
         });
         extraction.fitted = fitted;
+        extraction.mesh = in_input_order(std::mem::take(&mut extraction.mesh), points, &work);
         label_timing.prepend(std::mem::take(&mut extraction.diagnostics.timings));
         extraction.diagnostics.timings = label_timing;
         Ok(extraction)
@@ -606,13 +605,8 @@ type Triangulated = Option<(HalfEdgeMesh, usize)>;
 
 impl Pieces<'_> {
     /// The pieces of every direction, triangulated along it and gathered into one mesh
-    /// whose vertices are the input `points` (`work` maps working to input indices); and
-    /// the duplicate points the triangulations left out.
-    fn mesh(
-        &self,
-        points: &[[f64; 3]],
-        work: &[u32],
-    ) -> Result<(HalfEdgeMesh, usize), PolylidarError> {
+    /// of the working points; and the duplicate points the triangulations left out.
+    fn mesh(&self) -> Result<(HalfEdgeMesh, usize), PolylidarError> {
         let labels = self.labels();
         let mut pieces = self.split(&labels);
         // The order of the mesh: by (direction, first point); the triangulations run
@@ -660,17 +654,15 @@ impl Pieces<'_> {
             normals.extend(tris.iter().zip(tnormals).map(|(t, geometric)| {
                 self.vertex_mean_normal(t.map(|v| members[v as usize]), geometric)
             }));
-            triangles.extend(
-                tris.into_iter()
-                    .map(|t| t.map(|v| work[members[v as usize] as usize])),
-            );
+            triangles.extend(tris.into_iter().map(|t| t.map(|v| members[v as usize])));
             halfedges.extend(
                 twins
                     .into_iter()
                     .map(|h| if h == NO_TWIN { NO_TWIN } else { h + offset }),
             );
         }
-        let mesh = HalfEdgeMesh::from_parts_trusted(points.to_vec(), triangles, halfedges, normals);
+        let mesh =
+            HalfEdgeMesh::from_parts_trusted(self.points.to_vec(), triangles, halfedges, normals);
         Ok((mesh, duplicates))
     }
 
@@ -832,25 +824,16 @@ const RIM_ROUNDS: usize = 64;
 /// Distinct labels counted among a point's neighbours at most.
 const MAX_VOTES: usize = 8;
 
-/// The polygon of every input point, by fit (see the module docs, step 6).
-fn fitted_labels(
-    extraction: &Extraction,
-    points: &[[f64; 3]],
-    work: &[u32],
-    knn: &Neighbours,
-    voxels: Option<&cloud_normals::Voxels>,
-    rim: f64,
-) -> Vec<i32> {
-    let distance = |polygon: i32, p: [f64; 3]| {
-        let plane = &extraction.polygons[polygon as usize].plane;
-        (dot(plane.normal, p) + plane.offset).abs()
-    };
+/// The polygon of every working point (the extraction's mesh vertices), by fit (see the
+/// module docs, step 6).
+fn fitted_labels(extraction: &Extraction, knn: &Neighbours, rim: f64) -> Vec<i32> {
+    let points = extraction.mesh.vertices();
     let mut best = vec![(f64::INFINITY, -1i32); points.len()];
     let triangles = extraction.mesh.triangles();
     for (index, polygon) in extraction.polygons.iter().enumerate() {
         for &t in &polygon.triangles {
             for v in triangles[t as usize] {
-                let d = distance(index as i32, points[v as usize]);
+                let d = plane_distance(extraction, index as i32, points[v as usize]);
                 let slot = &mut best[v as usize];
                 if d < slot.0 {
                     *slot = (d, index as i32);
@@ -858,46 +841,84 @@ fn fitted_labels(
             }
         }
     }
-    // Working points in no polygon: the nearest plane among their neighbours' polygons,
-    // round after round from the points labelled so far.
+    // Points in no polygon: the nearest plane among their neighbours' polygons, round
+    // after round from the points labelled so far.
     for _ in 0..RIM_ROUNDS {
-        let rims: Vec<(usize, i32)> = (0..work.len())
+        let rims: Vec<(usize, i32)> = (0..points.len())
             .into_par_iter()
-            .filter(|&w| best[work[w] as usize].1 < 0)
+            .filter(|&w| best[w].1 < 0)
             .filter_map(|w| {
-                let p = points[work[w] as usize];
                 knn.of(w)
                     .iter()
-                    .map(|&n| best[work[n as usize] as usize].1)
+                    .map(|&n| best[n as usize].1)
                     .filter(|&l| l >= 0)
-                    .map(|l| (distance(l, p), l))
+                    .map(|l| (plane_distance(extraction, l, points[w]), l))
                     .filter(|&(d, _)| d <= rim)
                     .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)))
-                    .map(|(_, l)| (work[w] as usize, l))
+                    .map(|(_, l)| (w, l))
             })
             .collect();
         if rims.is_empty() {
             break;
         }
-        for (i, l) in rims {
-            best[i].1 = l;
+        for (w, l) in rims {
+            best[w].1 = l;
         }
     }
-    let mut labels: Vec<i32> = best.into_iter().map(|(_, l)| l).collect();
+    best.into_iter().map(|(_, l)| l).collect()
+}
+
+/// The labels of the working points (`work[w]` is the input index of `w`) for every
+/// input point; with voxels, a point not kept takes its voxel's polygon when it lies
+/// within `rim` of its plane.
+fn input_labels(
+    extraction: &Extraction,
+    labels: &[i32],
+    points: &[[f64; 3]],
+    work: &[u32],
+    voxels: Option<&cloud_normals::Voxels>,
+    rim: f64,
+) -> Vec<i32> {
+    let mut all = vec![-1; points.len()];
+    for (&i, &l) in work.iter().zip(labels) {
+        all[i as usize] = l;
+    }
     if let Some(voxels) = voxels {
         let of_voxel: Vec<i32> = voxels
             .representatives
             .iter()
-            .map(|&r| labels[r as usize])
+            .map(|&r| all[r as usize])
             .collect();
-        for (i, label) in labels.iter_mut().enumerate() {
+        for (i, label) in all.iter_mut().enumerate() {
             let l = of_voxel[voxels.voxel_of[i] as usize];
-            if *label < 0 && l >= 0 && distance(l, points[i]) <= rim {
+            if *label < 0 && l >= 0 && plane_distance(extraction, l, points[i]) <= rim {
                 *label = l;
             }
         }
     }
-    labels
+    all
+}
+
+/// The distance of `p` from the plane of polygon `polygon`.
+fn plane_distance(extraction: &Extraction, polygon: i32, p: [f64; 3]) -> f64 {
+    let plane = &extraction.polygons[polygon as usize].plane;
+    (dot(plane.normal, p) + plane.offset).abs()
+}
+
+/// The mesh of the working points with one vertex per input point instead: vertex
+/// `work[w]` is working point `w` (smoothed, if it was), the other input points are
+/// unused vertices at their input positions.
+fn in_input_order(mesh: HalfEdgeMesh, points: &[[f64; 3]], work: &[u32]) -> HalfEdgeMesh {
+    let (working, triangles, halfedges, normals) = mesh.into_parts();
+    let mut vertices = points.to_vec();
+    for (&i, p) in work.iter().zip(working) {
+        vertices[i as usize] = p;
+    }
+    let triangles = triangles
+        .into_iter()
+        .map(|t| t.map(|v| work[v as usize]))
+        .collect();
+    HalfEdgeMesh::from_parts_trusted(vertices, triangles, halfedges, normals)
 }
 
 #[inline]
