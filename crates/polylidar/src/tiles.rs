@@ -43,6 +43,8 @@ use std::collections::HashMap;
 use std::fmt;
 
 use geo::{Area, BooleanOps, Centroid, Coord, LineString, MultiPolygon, Polygon, Rect};
+use rstar::primitives::{GeomWithData, Rectangle};
+use rstar::{AABB, RTree};
 
 use crate::{Config, Polylidar, PolylidarError};
 
@@ -326,8 +328,6 @@ impl TileGrid {
         }
     }
 
-    /// The parts of the result of a boolean operation, snapped onto the grid lines (see
-    /// [`Self::snap`]) with a distance of 10⁻⁷ of the result's extent.
     /// The holes of a piece with exterior `exterior` that a union with the pieces across
     /// its seams may change (first), and those it cannot (second): a hole is set apart when
     /// its bounding box, grown by a margin well above the unions' rounding, reaches no grid
@@ -351,42 +351,43 @@ impl TileGrid {
                 },
             )
         };
-        let overlap = |a: &Rect<f64>, b: &Rect<f64>| {
-            a.min().x <= b.max().x
-                && b.min().x <= a.max().x
-                && a.min().y <= b.max().y
-                && b.min().y <= a.max().y
-        };
         let boxes: Vec<Option<Rect<f64>>> = holes
             .iter()
             .map(|h| geo::BoundingRect::bounding_rect(h).map(grown))
             .collect();
-        let edges: Vec<Rect<f64>> = exterior
-            .lines()
-            .map(|l| Rect::new(l.start, l.end))
-            .collect();
+        let envelope =
+            |r: &Rect<f64>| AABB::from_corners([r.min().x, r.min().y], [r.max().x, r.max().y]);
+        let tree = RTree::bulk_load(
+            boxes
+                .iter()
+                .enumerate()
+                .filter_map(|(i, b)| {
+                    b.map(|b| GeomWithData::new(Rectangle::from_aabb(envelope(&b)), i))
+                })
+                .collect(),
+        );
+        // Near: a hole without a box or reaching a grid line, a hole whose box overlaps an
+        // exterior edge's box, and then every hole whose box overlaps a near hole's box
+        // (the union rounds those too): a flood through the boxes' R-tree.
         let mut near: Vec<bool> = boxes
             .iter()
-            .map(|b| {
-                b.is_none_or(|b| self.reaches_a_line(&b) || edges.iter().any(|e| overlap(&b, e)))
-            })
+            .map(|b| b.is_none_or(|b| self.reaches_a_line(&b)))
             .collect();
-        // Holes touching a hole that goes through the union go through it too.
-        loop {
-            let mut changed = false;
-            for i in 0..holes.len() {
-                if near[i] {
-                    continue;
-                }
-                let Some(bi) = boxes[i] else { continue };
-                if (0..holes.len()).any(|j| near[j] && boxes[j].is_some_and(|bj| overlap(&bi, &bj)))
-                {
-                    near[i] = true;
-                    changed = true;
+        let mut flood: Vec<usize> = (0..holes.len()).filter(|&i| near[i]).collect();
+        let touch = |r: &Rect<f64>, near: &mut [bool], flood: &mut Vec<usize>| {
+            for hit in tree.locate_in_envelope_intersecting(&envelope(r)) {
+                if !near[hit.data] {
+                    near[hit.data] = true;
+                    flood.push(hit.data);
                 }
             }
-            if !changed {
-                break;
+        };
+        for edge in exterior.lines() {
+            touch(&Rect::new(edge.start, edge.end), &mut near, &mut flood);
+        }
+        while let Some(i) = flood.pop() {
+            if let Some(b) = boxes[i] {
+                touch(&b, &mut near, &mut flood);
             }
         }
         let (mut inside, mut apart) = (Vec::new(), Vec::new());
@@ -409,6 +410,8 @@ impl TileGrid {
             || crosses(r.min().y, r.max().y, self.origin[1])
     }
 
+    /// The parts of the result of a boolean operation, snapped onto the grid lines (see
+    /// [`Self::snap`]) with a distance of 10⁻⁷ of the result's extent.
     fn snap_parts(&self, parts: MultiPolygon<f64>) -> Vec<Polygon<f64>> {
         let eps = geo::BoundingRect::bounding_rect(&parts)
             .map_or(0.0, |r| 1e-7 * (r.width() + r.height()));
