@@ -36,11 +36,19 @@ pub struct CityArgs {
     /// Write uncompressed .las instead of .laz.
     #[arg(long)]
     las: bool,
-    /// Instead of writing files: extract the city in tiles of --tile metres (rooftop
-    /// preset, on a pool of --workers threads, merges of 4) and
-    /// report the per-tile and merge costs, throughput and peak memory.
+    /// Instead of writing files: extract the city in tiles of --tile metres (--preset, on a
+    /// pool of --workers threads, merges of 4) and report the per-tile and merge costs,
+    /// throughput and peak memory.
     #[arg(long)]
     extract: bool,
+    /// The preset of --extract: rooftop (2.5D: flat roofs and the ground) or aerial (the
+    /// unorganized 3D path: pitched roofs too).
+    #[arg(long, default_value = "rooftop")]
+    preset: String,
+    /// With --extract: score the merged polygons against the roof faces of the ground
+    /// truth (f and k of Table 10, roofs split at a seam).
+    #[arg(long)]
+    score: bool,
     /// Tiles extracted at once with --extract (the workers of a cluster).
     #[arg(long, default_value_t = 2)]
     workers: usize,
@@ -65,7 +73,17 @@ pub fn city(args: &CityArgs) -> Result<()> {
         return Err(msg(format!("--tile {} must be positive", args.tile)));
     }
     if args.extract {
-        return crate::city_extract::run(&city, args.tile, args.margin, args.workers, args.single);
+        return crate::city_extract::run(
+            &city,
+            &crate::city_extract::Options {
+                size: args.tile,
+                margin: args.margin,
+                workers: args.workers,
+                preset: &args.preset,
+                single: args.single,
+                score: args.score,
+            },
+        );
     }
     std::fs::create_dir_all(&args.out)?;
     let n = (city.side() / args.tile).ceil() as u32;

@@ -96,7 +96,9 @@ pub enum Preset {
     Room,
     /// `aerial` (ours): airborne LiDAR on the unorganized 3D path, for pitched roofs and
     /// façades as well as flat roofs and the ground: FastGA as `room`; lmax 3,
-    /// min_triangles 60, z 0.3, norm 0.94, hole vertices 8.
+    /// min_triangles 60, z 0.3, norm 0.94, hole vertices 8, refinement on (without it a
+    /// city's roof faces, each at its own pitch and azimuth, come out split between the
+    /// dominant directions nearest to them).
     Aerial,
 }
 
@@ -290,6 +292,7 @@ impl Preset {
                 z_thresh: 0.3,
                 norm_thresh: 0.94,
                 min_hole_vertices: 8,
+                refine: true,
                 unorganized: Some(crate::UnorganizedSection::default()),
                 ..base
             },

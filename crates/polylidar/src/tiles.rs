@@ -3,8 +3,9 @@
 //! An unorganized cloud seen from above (airborne LiDAR, a robot fleet's map) is split into
 //! square tiles on a regular grid in xy ([`TileGrid`]). Each tile is extracted on its
 //! *window* — its *core* square grown by an overlap margin — with the 2.5D pipeline
-//! ([`Polylidar::extract_25d`]), so that the triangles near the core's edges are those a
-//! run on the whole cloud would build. Each polygon is then clipped to the tile's core
+//! ([`Polylidar::extract_25d`]), or with the unorganized 3D path when the configuration
+//! asks for it (the `aerial` preset: pitched roofs too), so that the triangles near the
+//! core's edges are those a run on the whole cloud would build. Each polygon is then clipped to the tile's core
 //! ([`extract_tile`]): the overlap produces no duplicates, and the pieces of one surface
 //! cut by a seam meet exactly along the seam line.
 //!
@@ -15,8 +16,7 @@
 //! are kept and the results are valid polygons. Merging is associative: tiles can be
 //! merged in any tree (the Dask front merges in a tree of tasks) with the same result.
 //!
-//! The merged polygons are the 2.5D extraction's raw polygons (before post-processing) in
-//! xy, each with the plane of its triangles; [`TilePolygon::rings_3d`] lifts them onto it.
+//! The merged polygons are the extraction's raw polygons (before post-processing) in xy, each with the plane of its triangles; [`TilePolygon::rings_3d`] lifts them onto it.
 //! A region smaller than `min_triangles` within one window is dropped even when it
 //! continues in the next tile; with a margin of a few `lmax` this only touches regions
 //! close to the size limit.
@@ -49,6 +49,10 @@ use rstar::{AABB, RTree};
 use crate::{Config, Polylidar, PolylidarError};
 
 mod codec;
+
+/// On the unorganized 3D path, planes steeper than this (walls, façades: slivers seen
+/// from above) are left out of a tile's polygons, degrees from horizontal.
+pub const MAX_SLOPE_DEG: f64 = 70.0;
 
 /// At most this many tiles along one axis of a [`TileGrid`].
 pub const MAX_TILES_PER_AXIS: u32 = 1 << 20;
@@ -515,13 +519,24 @@ pub struct MergeTolerance {
 }
 
 impl MergeTolerance {
-    /// The tolerances that fit the 2.5D regions of `config`: every triangle of a region
-    /// is within `acos(norm_thresh)` of `up`, so two pieces of one region differ by at
-    /// most twice that; their planes may part by a few triangle lengths at a seam
-    /// (4 · the largest of `lmax`, 2 α and `z_thresh`; no height test when all are `0`).
+    /// The tolerances that fit the regions of `config`. On the 2.5D path every triangle of
+    /// a region is within `acos(norm_thresh)` of `up`, so two pieces of one region differ
+    /// by at most twice that, and their planes may part by a few triangle lengths at a
+    /// seam (4 · the largest of `lmax`, 2 α and `z_thresh`; no height test when all are
+    /// `0`). On the unorganized 3D path ([`Config::unorganized`]) a region is one plane,
+    /// so pieces must agree as closely as the segments that refinement merges:
+    /// `acos(norm_thresh)`, and 4 · `z_thresh` (or `lmax` when it is `0`) — two faces of
+    /// a pitched roof that touch a seam side by side are not one polygon.
     pub fn for_config(config: &Config) -> Self {
-        let angle = 2.0 * config.norm_thresh.clamp(-1.0, 1.0).acos().to_degrees();
-        let length = config.lmax.max(2.0 * config.alpha).max(config.z_thresh);
+        let cone = config.norm_thresh.clamp(-1.0, 1.0).acos().to_degrees();
+        let (angle, length) = match config.unorganized {
+            Some(_) if config.z_thresh > 0.0 => (cone, config.z_thresh),
+            Some(_) => (cone, config.lmax),
+            None => (
+                2.0 * cone,
+                config.lmax.max(2.0 * config.alpha).max(config.z_thresh),
+            ),
+        };
         Self {
             max_angle_deg: angle.max(1.0),
             max_offset: if length > 0.0 {
@@ -542,8 +557,11 @@ impl MergeTolerance {
 }
 
 /// Extracts the polygons of one tile: the 2.5D pipeline on the points of `points` in the
-/// tile's window (others are ignored, so the whole cloud may be passed), each polygon
-/// clipped to the tile's core. A window with fewer than 3 points, or points that cannot be
+/// tile's window (others are ignored, so the whole cloud may be passed) — or the
+/// unorganized 3D path ([`Polylidar::extract_unorganized`]) when the configuration has an
+/// [`unorganized`](Config::unorganized) section, for pitched roofs, keeping the planes
+/// within [`MAX_SLOPE_DEG`] of horizontal — each polygon's footprint clipped to the tile's
+/// core. A window with fewer than 3 points, or points that cannot be
 /// triangulated (all on one line), has no polygons. The pipeline's post-processing is not
 /// applied: it belongs after the merge.
 ///
@@ -581,28 +599,48 @@ pub fn extract_tile(
     if inside.len() < 3 {
         return Ok(set);
     }
-    let extraction = match polylidar.extract_25d(&inside) {
+    let three_d = polylidar.config().unorganized.is_some();
+    let extracted = match three_d {
+        true => polylidar.extract_unorganized(&inside, None),
+        false => polylidar.extract_25d(&inside),
+    };
+    let extraction = match extracted {
         Ok(extraction) => extraction,
         Err(PolylidarError::Mesh(_)) => return Ok(set),
         Err(source) => return Err(TileError::Extract { tile, source }),
     };
     let core = grid.core(tile);
-    let ring = |points: &[[f64; 3]]| -> LineString<f64> {
-        points.iter().map(|p| Coord { x: p[0], y: p[1] }).collect()
-    };
+    let min_up = MAX_SLOPE_DEG.to_radians().cos();
     for polygon in &extraction.polygons {
-        let footprint = Polygon::new(
-            ring(&polygon.shell_points),
-            polygon.hole_points.iter().map(|h| ring(h)).collect(),
-        );
         let (mut normal, mut offset) = (polygon.plane.normal, polygon.plane.offset);
         if normal[2] < 0.0 {
             normal = normal.map(|c| -c);
             offset = -offset;
         }
-        if normal[2] <= 0.0 {
+        if normal[2] <= 0.0 || (three_d && normal[2] < min_up) {
             continue;
         }
+        // A 2.5D polygon is valid in xy as it is; a 3D one in its plane, so its vertices
+        // go onto the plane first (xy is then an affine image of the plane's frame).
+        let ring = |points: &[[f64; 3]]| -> LineString<f64> {
+            points
+                .iter()
+                .map(|p| {
+                    let s = match three_d {
+                        true => normal[0] * p[0] + normal[1] * p[1] + normal[2] * p[2] + offset,
+                        false => 0.0,
+                    };
+                    Coord {
+                        x: p[0] - s * normal[0],
+                        y: p[1] - s * normal[1],
+                    }
+                })
+                .collect()
+        };
+        let footprint = Polygon::new(
+            ring(&polygon.shell_points),
+            polygon.hole_points.iter().map(|h| ring(h)).collect(),
+        );
         // Clipped to the core as far as the polygon reaches: the operation's integer grid
         // then follows the polygon's extent, not the tile's.
         let Some(bb) = geo::BoundingRect::bounding_rect(&footprint) else {
