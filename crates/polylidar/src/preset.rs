@@ -98,7 +98,10 @@ pub enum Preset {
     /// façades as well as flat roofs and the ground: FastGA as `room`; lmax 3,
     /// min_triangles 60, z 0.3, norm 0.94, hole vertices 8, refinement on (without it a
     /// city's roof faces, each at its own pitch and azimuth, come out split between the
-    /// dominant directions nearest to them).
+    /// dominant directions nearest to them), normals from 16 neighbours (an airborne
+    /// scanner samples densely along its scan lines and sparsely across them, and where
+    /// two flight strips overlap 12 neighbours can lie on two nearly coincident lines,
+    /// their normals tilted: the ground broke into hundreds of slivers there).
     Aerial,
 }
 
@@ -293,7 +296,7 @@ impl Preset {
                 norm_thresh: 0.94,
                 min_hole_vertices: 8,
                 refine: true,
-                unorganized: Some(crate::UnorganizedSection::default()),
+                unorganized: Some(crate::UnorganizedSection::default().with_k(16)),
                 ..base
             },
         }

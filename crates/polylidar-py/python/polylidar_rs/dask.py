@@ -25,10 +25,21 @@ from .tiles import Path, TiledResult, TileGrid, files_plan
 __all__ = ["tile_graph", "files_graph", "points_graph", "extract_files", "extract_points"]
 
 
-def extract_tile_files(paths: List[str], grid: tuple, col: int, row: int, preset: Optional[str],
-                       params: Dict[str, Any]) -> bytes:
-    """One tile task: the tile's polygons from the LAS/LAZ files that feed it."""
-    return _native.extract_tile_files(paths, grid, col, row, preset, **params)
+def read_file_windows(path: str, grid: tuple, tiles: List[Tuple[int, int]]) -> Dict[Tuple[int, int], np.ndarray]:
+    """One read task: a LAS/LAZ file's points cut into the windows of ``tiles`` (the tiles
+    it feeds), so that each file is decoded once however many windows it meets."""
+    points = np.asarray(_native.load(path)["points"], dtype=np.float64)
+    points = points[np.isfinite(points).all(axis=1)]
+    g = TileGrid((grid[0], grid[1]), grid[2], grid[3], grid[4], grid[5])
+    return {tile: g.window_points(points, *tile) for tile in tiles}
+
+
+def extract_tile_pieces(pieces: Sequence[np.ndarray], grid: tuple, col: int, row: int, preset: Optional[str],
+                        params: Dict[str, Any]) -> bytes:
+    """One tile task: the tile's polygons from its window's points, in pieces (one per file
+    that feeds it, from :func:`read_file_windows`)."""
+    points = np.concatenate(pieces) if len(pieces) else np.empty((0, 3))
+    return extract_tile_points(points, grid, col, row, preset, params)
 
 
 def extract_tile_points(points: np.ndarray, grid: tuple, col: int, row: int, preset: Optional[str],
@@ -81,13 +92,26 @@ def tile_graph(leaves: Sequence[Tuple[Tuple[int, int], Callable[..., bytes], tup
 
 def files_graph(paths: Sequence[Path], tile_size: float, margin: float, preset: Optional[str] = None,
                 fan_in: int = 4, tolerance: Optional[Dict[str, float]] = None,
-                extract: Callable[..., bytes] = extract_tile_files, **params):
+                extract: Callable[..., bytes] = extract_tile_pieces, **params):
     """The graph for a set of LAS/LAZ files (see :func:`tile_graph`) and its
-    :class:`~polylidar_rs.tiles.TileGrid`. ``extract`` is the tile task's function (default
-    :func:`extract_tile_files`; a wrapper of it can instrument the tiles)."""
+    :class:`~polylidar_rs.tiles.TileGrid`: one read task per file
+    (:func:`read_file_windows`: decoded once, cut into the windows it meets), one tile task
+    per tile on the pieces of its window. ``extract`` is the tile task's function (default
+    :func:`extract_tile_pieces`; a wrapper of it can instrument the tiles)."""
+    import dask
+
     grid, plan = files_plan(paths, tile_size, margin)
     g = grid.as_tuple()
-    leaves = [(tile, extract, (files, g, tile[0], tile[1], preset, params)) for tile, files in sorted(plan.items())]
+    feeds: Dict[str, List[Tuple[int, int]]] = {}
+    for tile, files in sorted(plan.items()):
+        for f in files:
+            feeds.setdefault(f, []).append(tile)
+    reads = {
+        f: dask.delayed(read_file_windows, pure=True)(f, g, tiles, dask_key_name=f"polylidar-read-{i}")
+        for i, (f, tiles) in enumerate(sorted(feeds.items()))
+    }
+    leaves = [(tile, extract, ([reads[f][tile] for f in files], g, tile[0], tile[1], preset, params))
+              for tile, files in sorted(plan.items())]
     return tile_graph(leaves, preset, params, fan_in, tolerance), grid
 
 
