@@ -22,15 +22,24 @@ pub enum BufferJoin {
     Bevel,
 }
 
-impl Default for BufferJoin {
-    /// Round joins with π/4 per segment (8 segments per full turn): the arc then deviates
-    /// from a true circle by at most `β (1 − cos π/8)` ≈ 7.6 % of the buffer distance
-    /// (0.4 mm for the rgbd preset's β_pos), well below the simplification tolerance of
-    /// every paper preset, and buffering costs half as much as with 0.2 rad.
-    fn default() -> Self {
-        BufferJoin::Round {
-            max_angle: std::f64::consts::FRAC_PI_4,
+impl BufferJoin {
+    /// The joins of the original Polylidar3D's post-processing, which buffers with
+    /// Shapely's mitre joins and their default mitre limit 5: corners stay pointed unless
+    /// the point would reach more than 5 buffer distances from the vertex, that is unless
+    /// the corner is sharper than `2 asin(1/5)` ≈ 23.1°.
+    pub fn original() -> Self {
+        BufferJoin::Miter {
+            min_angle: 2.0 * (1.0f64 / 5.0).asin(),
         }
+    }
+}
+
+impl Default for BufferJoin {
+    /// [`BufferJoin::original`]: the original's shapes, and on a KITTI ground polygon
+    /// (450 vertices, 40 holes) the inward buffer takes 40 % less time than with round
+    /// joins of π/4 per segment.
+    fn default() -> Self {
+        Self::original()
     }
 }
 
@@ -63,7 +72,7 @@ pub struct PostprocessConfig {
     pub min_area: f64,
     /// δ: holes with area below this, in m², are dropped. `0` = keep all.
     pub min_hole_area: f64,
-    /// Corner style of both buffers. Default: round, π/4 per segment.
+    /// Corner style of both buffers. Default: [`BufferJoin::original`] (mitre, limit 5).
     pub buffer_join: BufferJoin,
 }
 

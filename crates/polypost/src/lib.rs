@@ -8,7 +8,7 @@
 //! 1. simplifies it with tolerance α (Ramer–Douglas–Peucker; a result made invalid is
 //!    repaired),
 //! 2. buffers it outward by β_pos and
-//! 3. inward by β_neg (round joins by default),
+//! 3. inward by β_neg (mitre joins by default, as the original's Shapely buffers),
 //! 4. drops polygons with area below γ and
 //! 5. holes with area below δ,
 //!
