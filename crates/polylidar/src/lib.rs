@@ -78,7 +78,7 @@ pub use opc_mesh::{
     DepthOptions, Intrinsics, OpcError, OrganizedPointCloud, OrganizedPointCloudView,
 };
 pub use pipeline::{
-    ExtractedPolygon, Extraction, PlaneFrame, PolygonPlane, Polylidar, PostprocessedPolygon,
+    ExtractedPolygon, Extraction, Plane, PlaneFrame, Polylidar, PostprocessedPolygon,
 };
 /// Planar simplification and texturing (Ma et al. 2013), re-exported: see
 /// [`Extraction::planar_meshes`].

@@ -23,8 +23,9 @@ pub struct ExtractedPolygon {
     pub hole_points: Vec<Vec<[f64; 3]>>,
     /// The triangles of the region, indices into [`Extraction::mesh`].
     pub triangles: Vec<u32>,
-    /// The plane of the region's triangles.
-    pub plane: PolygonPlane,
+    /// The plane of the region's triangles (`normal · x + offset = 0`): their
+    /// area-weighted mean normal through their area-weighted centroid.
+    pub plane: Plane,
     /// 3D: the index of the dominant normal the segment was grown for (into
     /// [`Extraction::dominant_normals`]); `None` for a plane that refinement found
     /// without one, and for 2D and 2.5D input.
@@ -40,7 +41,7 @@ impl ExtractedPolygon {
     pub(crate) fn new(
         vertices: &[[f64; 3]],
         (shell, holes): (Vec<u32>, Vec<Vec<u32>>),
-        plane: PolygonPlane,
+        plane: Plane,
         triangles: Vec<u32>,
         group: Option<u32>,
         plane_id: u32,
@@ -61,32 +62,11 @@ impl ExtractedPolygon {
     }
 }
 
-/// The geometric plane of a polygon's triangles: `normal · x + offset = 0`.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct PolygonPlane {
-    /// Unit normal: the area-weighted mean triangle normal.
-    pub normal: [f64; 3],
-    /// Offset `d` of the plane equation.
-    pub offset: f64,
-    /// Area-weighted centroid of the triangles (a point on the plane).
-    pub centroid: [f64; 3],
-}
-
-impl PolygonPlane {
-    /// The plane of `triangles` of `mesh`.
-    pub(crate) fn of(mesh: &HalfEdgeMesh, triangles: &[u32]) -> Self {
-        let (normal, centroid) = planeseg::geometric_plane(mesh, triangles);
-        Self::new(normal, centroid)
-    }
-
-    pub(crate) fn new(normal: [f64; 3], centroid: [f64; 3]) -> Self {
-        let offset = -(normal[0] * centroid[0] + normal[1] * centroid[1] + normal[2] * centroid[2]);
-        Self {
-            normal,
-            offset,
-            centroid,
-        }
-    }
+/// The geometric plane of `triangles` of `mesh`: the area-weighted mean triangle normal
+/// through the area-weighted centroid.
+pub(crate) fn triangles_plane(mesh: &HalfEdgeMesh, triangles: &[u32]) -> Plane {
+    let (normal, centroid) = planeseg::geometric_plane(mesh, triangles);
+    Plane::from_unit_normal(normal, centroid)
 }
 
 /// A post-processed polygon (simplified, buffered, filtered; always valid in its plane),
@@ -449,7 +429,7 @@ impl Polylidar {
                             .into_iter()
                             .filter(|h| h.len() >= config.min_hole_vertices)
                             .collect();
-                        let plane = PolygonPlane::of(&mesh, triangles);
+                        let plane = triangles_plane(&mesh, triangles);
                         let polygon = ExtractedPolygon::new(
                             vertices,
                             (polygon.shell, holes),
@@ -507,4 +487,4 @@ impl Polylidar {
 /// assert_eq!(frame.project([3.0, 4.0, 5.0]), [3.0, 4.0]);
 /// # Ok::<(), &str>(())
 /// ```
-pub use plane_geom::PlaneFrame;
+pub use plane_geom::{Plane, PlaneFrame};

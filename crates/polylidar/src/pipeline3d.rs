@@ -10,7 +10,6 @@ use opc_mesh::{OpcMeshOptions, OrganizedPointCloud, OrganizedPointCloudView};
 use polypost::{Plane, Polygon3, PostProcessor};
 
 use crate::config::{LaplacianConfig, LaplacianIterations};
-use crate::pipeline::PolygonPlane;
 use crate::reuse;
 use crate::{
     Counts, ExtractedPolygon, Extraction, Polylidar, PolylidarError, PostprocessedPolygon, Timings,
@@ -207,7 +206,7 @@ impl Polylidar {
             .segments
             .into_iter()
             .map(|s| {
-                let plane = PolygonPlane::new(s.normal, s.centroid);
+                let plane = Plane::from_unit_normal(s.normal, s.centroid);
                 let rings = (s.polygon.shell, s.polygon.holes);
                 let group = (s.group != planeseg::NO_GROUP).then_some(s.group);
                 ExtractedPolygon::new(vertices, rings, plane, s.triangles, group, s.plane)
