@@ -768,6 +768,8 @@ impl Pieces<'_> {
                 let mut parent: Vec<u32> = (0..members.len() as u32).collect();
                 for (a, &i) in members.iter().enumerate() {
                     let p = self.points[i as usize];
+                    // The root of `a`, kept up to date through its unions.
+                    let mut x = find(&mut parent, a as u32);
                     for &n in self.knn.of(i as usize) {
                         if labels[n as usize] != j as u32 || n == i {
                             continue;
@@ -776,13 +778,11 @@ impl Pieces<'_> {
                         if dot(d, [p[0] - q[0], p[1] - q[1], p[2] - q[2]]).abs() > self.z_cut {
                             continue;
                         }
-                        let (x, y) = (
-                            find(&mut parent, a as u32),
-                            find(&mut parent, local[n as usize]),
-                        );
+                        let y = find(&mut parent, local[n as usize]);
                         if x != y {
                             let (low, high) = if x < y { (x, y) } else { (y, x) };
                             parent[high as usize] = low;
+                            x = low;
                         }
                     }
                 }
