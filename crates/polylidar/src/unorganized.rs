@@ -842,12 +842,18 @@ fn fitted_labels(extraction: &Extraction, knn: &Neighbours, rim: f64) -> Vec<i32
         }
     }
     // Points in no polygon: the nearest plane among their neighbours' polygons, round
-    // after round from the points labelled so far.
+    // after round from the points labelled so far. Only the points still unlabelled are
+    // visited, and after the first round only those with a neighbour labelled in the
+    // round before: the others see the same labelled neighbours as when they last found
+    // none near enough (clutter, 28,000 of Autzen's points, stays unlabelled through all
+    // 21 rounds).
+    let mut pending: Vec<usize> = (0..points.len()).filter(|&w| best[w].1 < 0).collect();
+    let mut fresh = vec![true; points.len()];
     for _ in 0..RIM_ROUNDS {
-        let rims: Vec<(usize, i32)> = (0..points.len())
-            .into_par_iter()
-            .filter(|&w| best[w].1 < 0)
-            .filter_map(|w| {
+        let rims: Vec<(usize, i32)> = pending
+            .par_iter()
+            .filter(|&&w| knn.of(w).iter().any(|&n| fresh[n as usize]))
+            .filter_map(|&w| {
                 knn.of(w)
                     .iter()
                     .map(|&n| best[n as usize].1)
@@ -861,9 +867,12 @@ fn fitted_labels(extraction: &Extraction, knn: &Neighbours, rim: f64) -> Vec<i32
         if rims.is_empty() {
             break;
         }
+        fresh.fill(false);
         for (w, l) in rims {
             best[w].1 = l;
+            fresh[w] = true;
         }
+        pending.retain(|&w| best[w].1 < 0);
     }
     best.into_iter().map(|(_, l)| l).collect()
 }
