@@ -487,4 +487,8 @@ impl Polylidar {
 /// assert_eq!(frame.project([3.0, 4.0, 5.0]), [3.0, 4.0]);
 /// # Ok::<(), &str>(())
 /// ```
-pub use plane_geom::{Plane, PlaneFrame};
+pub use plane_geom::PlaneFrame;
+
+/// The plane of an extracted polygon (`normal · x + offset = 0`, a unit normal and a
+/// point on it): the workspace's shared type from `plane-geom`.
+pub use plane_geom::Plane;
