@@ -14,6 +14,9 @@
 #   no-default-features  for each workspace crate that has features: cargo check -p CRATE
 #                        --no-default-features --all-targets --locked; fastga's tests also run so
 #                        (its k-d tree baseline and PNG export are optional)
+#   fuzz-targets         cargo check --manifest-path fuzz/Cargo.toml --bins --locked: the cargo-fuzz
+#                        targets (outside the workspace, run by scripts/fuzz.sh on nightly) still
+#                        compile against the crates' current API
 #   msrv                 the workspace's `rust-version`: when the active rustc is that version the
 #                        steps above were built with it; otherwise `cargo +VERSION check` with that
 #                        toolchain when rustup has it, and a failure under CI=true when it has not
@@ -95,5 +98,6 @@ check clippy cargo clippy --workspace --all-targets --all-features --locked -- -
 check doc env RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps --all-features --locked
 check benches cargo build --workspace --bench '*' --all-features --locked
 check no-default-features no_default_features
+check fuzz-targets cargo check --manifest-path fuzz/Cargo.toml --bins --locked
 check msrv msrv
 exit "$failed"

@@ -3,7 +3,7 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use polylidar::{Config, PRESETS, Polylidar};
+use polylidar::{Config, Polylidar};
 
 /// As the command's merge: `from`'s keys replace `into`'s, tables merged key by key.
 fn merge(into: &mut toml::Table, from: toml::Table) {
@@ -24,10 +24,7 @@ fuzz_target!(|data: &[u8]| {
     let Ok(text) = std::str::from_utf8(text) else {
         return;
     };
-    let base = PRESETS
-        .get(usize::from(selector) % (PRESETS.len() + 1))
-        .and_then(|name| Config::preset(name))
-        .unwrap_or_default();
+    let base = polylidar_fuzz::config_of(selector);
     let Ok(file) = toml::from_str::<toml::Table>(text) else {
         return;
     };

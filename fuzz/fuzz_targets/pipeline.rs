@@ -4,8 +4,8 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
+use polylidar::Polylidar;
 use polylidar::io::Input;
-use polylidar::{Config, PRESETS, Polylidar};
 
 fuzz_target!(|data: &[u8]| {
     let [format, preset, rest @ ..] = data else {
@@ -18,11 +18,7 @@ fuzz_target!(|data: &[u8]| {
     let Ok(input) = Input::from_io(kind) else {
         return;
     };
-    let config = PRESETS
-        .get(usize::from(*preset) % (PRESETS.len() + 1))
-        .and_then(|name| Config::preset(name))
-        .unwrap_or_default()
-        .with_threads(1);
+    let config = polylidar_fuzz::config_of(*preset).with_threads(1);
     let Ok(polylidar) = Polylidar::new(config) else {
         return;
     };

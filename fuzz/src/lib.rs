@@ -1,7 +1,16 @@
 //! Helpers shared by the fuzz targets: the memory budget they read under, and the input
 //! kind of arbitrary bytes for the end-to-end target.
 
+use polylidar::{Config, Preset};
 use polylidar_io::{CameraIntrinsics, InputKind, Limits, PointCloud};
+
+/// The configuration a selector byte names: one of the presets, or (one value past them)
+/// the default configuration.
+pub fn config_of(selector: u8) -> Config {
+    Preset::all()
+        .get(usize::from(selector) % (Preset::all().len() + 1))
+        .map_or_else(Config::default, |preset| preset.config())
+}
 
 /// The budget of the reader targets: small enough that no input can take the fuzzer past
 /// its `-rss_limit_mb`, large enough for every seed.
