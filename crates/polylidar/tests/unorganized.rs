@@ -420,7 +420,10 @@ fn smoothing_auto_runs_no_pass_on_a_clean_cloud_and_enough_on_a_noisy_one() {
     let scene = box_room();
     let run = |sigma: f64, smoothing: LaplacianIterations| {
         let (points, truth) = sample(&scene, 60_000, sigma, 5);
-        let mut config = room_config();
+        // An 18° normal threshold, where unsmoothed normals of this noise leave faces
+        // incomplete (the preset's 32° tolerates it on this simple room; the Table 10u
+        // scenes need the passes at either threshold).
+        let mut config = room_config().with_norm_thresh(0.95);
         let section = config.unorganized.unwrap().with_smoothing(smoothing);
         config = config.with_unorganized(Some(section));
         let extraction = Polylidar::new(config)
