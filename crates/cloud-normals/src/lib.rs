@@ -9,7 +9,9 @@
 //! * [`orient`]: normals flipped towards a viewpoint (the sensor) or into the half-space
 //!   of a direction (up, for airborne data);
 //! * [`voxel_downsample`]: one representative point per voxel, for dense clouds;
-//! * [`neighbourhood_noise`]: how noisy the surfaces are, relative to the point spacing;
+//! * [`neighbourhood_noise`]: how noisy the surfaces are, relative to the point spacing,
+//!   and [`predict_smoothing_passes`]: the passes of [`smooth_points`] a trained model
+//!   gives that noise;
 //! * [`spatial_order`]: a Morton order, so that neighbourhood passes over a shuffled cloud
 //!   read memory in order.
 //!
@@ -40,7 +42,7 @@ mod voxel;
 
 pub use error::NormalsError;
 pub use knn::Neighbours;
-pub use noise::{NOISE_SAMPLES, neighbourhood_noise};
+pub use noise::{MAX_AUTO_PASSES, NOISE_SAMPLES, neighbourhood_noise, predict_smoothing_passes};
 pub use order::spatial_order;
 pub use orient::{Orientation, SIDE_COS, orient};
 pub use pca::{estimate_normals, plane_normal, smallest_eigenvector, smooth_points};

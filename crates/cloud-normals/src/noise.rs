@@ -96,3 +96,40 @@ fn relative_noise(points: &[[f64; 3]], around: &[u32]) -> Option<f64> {
     let r = low.max(0.0).sqrt() / spread.sqrt();
     r.is_finite().then_some(r)
 }
+
+/// Largest pass count [`predict_smoothing_passes`] predicts.
+pub const MAX_AUTO_PASSES: u32 = 16;
+
+/// Intercept of the trained model `passes ≈ A + B · neighbourhood_noise(cloud)` behind
+/// the facade's `unorganized.smoothing = "auto"` (passes of [`crate::smooth_points`]).
+///
+/// Obtained by `cargo run --release -p polylidar --example train_unorganized_smoothing`:
+/// seeds 0–3 of `synthscan::synpeb_like` at 1 mdeg of tangential and 0, 5, 10, 20 or
+/// 30 mm of radial noise, each scan shuffled into an unorganized cloud, the `room` preset
+/// run with 0, 1, 2, 4, 6, 8, 10, 12 and 16 passes; per noise level the count with the
+/// best mean f (0, 1, 6, 10, 12 passes at mean estimates 0.003, 0.22, 0.39, 0.54, 0.59),
+/// and a least-squares line through them: RMS residual 1.3 passes. Rerun that command to
+/// regenerate (it prints the fit).
+const SMOOTHING_INTERCEPT: f64 = -1.6189;
+/// Slope of the trained smoothing model (passes per unit of relative noise); see
+/// [`SMOOTHING_INTERCEPT`].
+const SMOOTHING_SLOPE: f64 = 21.1431;
+
+/// The point-smoothing passes the trained linear model predicts for an unorganized cloud
+/// whose [`neighbourhood_noise`] is `noise` (the unorganized path's
+/// `smoothing = "auto"`): `round(A + B · noise)` clamped to
+/// `0..=`[`MAX_AUTO_PASSES`] (0: no smoothing; 0 too for a `noise` that is not finite).
+///
+/// ```
+/// use cloud_normals::predict_smoothing_passes;
+/// assert_eq!(predict_smoothing_passes(0.0), 0);
+/// assert!(predict_smoothing_passes(0.5) > predict_smoothing_passes(0.1));
+/// ```
+pub fn predict_smoothing_passes(noise: f64) -> u32 {
+    let predicted = SMOOTHING_INTERCEPT + SMOOTHING_SLOPE * noise;
+    if !predicted.is_finite() || predicted <= 0.0 {
+        return 0;
+    }
+    // In 0..=MAX after the clamp, so the cast is exact.
+    predicted.round().min(f64::from(MAX_AUTO_PASSES)) as u32
+}

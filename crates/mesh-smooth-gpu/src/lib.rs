@@ -80,6 +80,7 @@ mod gpu;
 mod gpu_disabled;
 pub mod grid;
 pub mod mesh;
+mod noise;
 mod options;
 
 pub use cpu::CpuSmoother;
@@ -109,6 +110,11 @@ pub fn adapter_requests() -> u64 {
     }
 }
 pub use grid::SlotNormals;
+pub use noise::{
+    CORRELATION_STRIDE, MAX_AUTO_ITERATIONS, WHITE_NOISE_RATIO, auto_laplacian_iterations,
+    estimate_noise, estimate_noise_absolute, estimate_noise_correlation, passes_by_range,
+    predict_laplacian_iterations,
+};
 pub use options::{Backend, BilateralOptions, LaplacianOptions, MAX_ITERATIONS, MAX_KERNEL};
 
 #[cfg(doctest)]

@@ -47,7 +47,6 @@ mod filter;
 pub mod io;
 mod mesh;
 pub mod misses;
-mod noise;
 pub mod output;
 mod pipeline;
 mod pipeline3d;
@@ -69,10 +68,14 @@ pub use diagnostics::{Counts, Diagnostics, Timings};
 pub use error::PolylidarError;
 pub use halfedge_mesh::{HalfEdgeMesh, MeshError};
 pub use mesh::PlanarMeshes;
-pub use noise::{
+// Noise estimates and the trained models that turn them into smoothing passes: the
+// organized path's in `mesh-smooth-gpu`, beside the Laplacian filter they drive; the
+// unorganized path's in `cloud-normals`, beside its point smoothing.
+pub use cloud_normals::predict_smoothing_passes;
+pub use mesh_smooth_gpu::{
     CORRELATION_STRIDE, MAX_AUTO_ITERATIONS, WHITE_NOISE_RATIO, auto_laplacian_iterations,
     estimate_noise, estimate_noise_absolute, estimate_noise_correlation, passes_by_range,
-    predict_laplacian_iterations, predict_smoothing_passes,
+    predict_laplacian_iterations,
 };
 pub use opc_mesh::{
     DepthOptions, Intrinsics, OpcError, OrganizedPointCloud, OrganizedPointCloudView,

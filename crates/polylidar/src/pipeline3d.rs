@@ -293,14 +293,14 @@ fn laplacian(
 ) -> Result<u32, SmoothError> {
     let iterations = match l.iterations {
         LaplacianIterations::Fixed(n) => n,
-        LaplacianIterations::Auto => crate::noise::auto_laplacian_iterations(cloud),
+        LaplacianIterations::Auto => mesh_smooth_gpu::auto_laplacian_iterations(cloud),
     };
     if iterations == 0 {
         return Ok(0);
     }
     let options = l.options(iterations);
     let passes = (l.range_exponent > 0.0 && options.backend != Backend::Gpu)
-        .then(|| crate::noise::passes_by_range(cloud, iterations, l.range_exponent))
+        .then(|| mesh_smooth_gpu::passes_by_range(cloud, iterations, l.range_exponent))
         .flatten();
     if let Some(passes) = passes {
         reuse.laplacian_per_pixel(cloud.to_mut(), &options, &passes)?;

@@ -1,5 +1,5 @@
 //! Point-noise estimation for organized clouds, and the trained model that turns it into a
-//! Laplacian iteration count (`iterations = "auto"`, 3D paper §9.3.2: "a linear regression
+//! Laplacian iteration count for [`crate::laplacian_filter`] (`iterations = "auto"`, 3D paper §9.3.2: "a linear regression
 //! model to predict the most suitable number of iterations given an estimate of point
 //! cloud noise").
 
@@ -47,7 +47,8 @@ pub const MAX_AUTO_ITERATIONS: u32 = 16;
 /// Deterministic; single-threaded; one allocation (the sample buffer) per call.
 ///
 /// ```
-/// use polylidar::{OrganizedPointCloud, estimate_noise};
+/// use mesh_smooth_gpu::estimate_noise;
+/// use opc_mesh::OrganizedPointCloud;
 ///
 /// // A 40 × 40 tilted plane with a 1 cm grid step, then the same with ±1 mm bumps.
 /// let plane = |bump: f64| -> Vec<[f64; 3]> {
@@ -85,35 +86,6 @@ pub fn predict_laplacian_iterations(noise: f64) -> u32 {
     passes(MODEL_INTERCEPT + MODEL_SLOPE * noise)
 }
 
-/// Intercept of the trained model `passes ≈ A + B · neighbourhood_noise(cloud)` behind
-/// `unorganized.smoothing = "auto"`.
-///
-/// Obtained by `cargo run --release -p polylidar --example train_unorganized_smoothing`:
-/// seeds 0–3 of `synthscan::synpeb_like` at 1 mdeg of tangential and 0, 5, 10, 20 or
-/// 30 mm of radial noise, each scan shuffled into an unorganized cloud, the `room` preset
-/// run with 0, 1, 2, 4, 6, 8, 10, 12 and 16 passes; per noise level the count with the
-/// best mean f (0, 1, 6, 10, 12 passes at mean estimates 0.003, 0.22, 0.39, 0.54, 0.59),
-/// and a least-squares line through them: RMS residual 1.3 passes. Rerun that command to
-/// regenerate (it prints the fit).
-const SMOOTHING_INTERCEPT: f64 = -1.6189;
-/// Slope of the trained smoothing model (passes per unit of relative noise); see
-/// [`SMOOTHING_INTERCEPT`].
-const SMOOTHING_SLOPE: f64 = 21.1431;
-
-/// The point-smoothing passes the trained linear model predicts for an unorganized cloud
-/// whose [`cloud_normals::neighbourhood_noise`] is `noise` (the unorganized path's
-/// `smoothing = "auto"`): `round(A + B · noise)` clamped to
-/// `0..=`[`MAX_AUTO_ITERATIONS`] (0: no smoothing).
-///
-/// ```
-/// use polylidar::predict_smoothing_passes;
-/// assert_eq!(predict_smoothing_passes(0.0), 0);
-/// assert!(predict_smoothing_passes(0.5) > predict_smoothing_passes(0.1));
-/// ```
-pub fn predict_smoothing_passes(noise: f64) -> u32 {
-    passes(SMOOTHING_INTERCEPT + SMOOTHING_SLOPE * noise)
-}
-
 /// `predicted` rounded to a pass count in `0..=`[`MAX_AUTO_ITERATIONS`] (0 when not
 /// positive or not finite).
 fn passes(predicted: f64) -> u32 {
@@ -136,7 +108,8 @@ fn passes(predicted: f64) -> u32 {
 /// k × k kernel, do not remove it. `None` when either estimate is missing or zero.
 ///
 /// ```
-/// use polylidar::{OrganizedPointCloud, estimate_noise_correlation};
+/// use mesh_smooth_gpu::estimate_noise_correlation;
+/// use opc_mesh::OrganizedPointCloud;
 ///
 /// // Ripples 12 pixels long: correlated noise.
 /// let points: Vec<[f64; 3]> = (0..3600)
@@ -191,14 +164,15 @@ pub fn auto_laplacian_iterations(cloud: &OrganizedPointCloud) -> u32 {
 const RANGE_SAMPLES: usize = 16_384;
 
 /// The Laplacian pass count of every point of `cloud` for
-/// [`LaplacianConfig::range_exponent`](crate::LaplacianConfig::range_exponent) `exponent`:
+/// the facade's `LaplacianConfig::range_exponent` `exponent`:
 /// `round(n · (r / r_median)^exponent)` clamped to `1..=max(n, MAX_AUTO_ITERATIONS)` (and
 /// to 255), for its range `r` from the origin and the median range `r_median` of a
 /// regular sample of the valid points; invalid points get 0. `None` without a valid point
 /// at a positive range.
 ///
 /// ```
-/// use polylidar::{OrganizedPointCloud, passes_by_range};
+/// use mesh_smooth_gpu::passes_by_range;
+/// use opc_mesh::OrganizedPointCloud;
 ///
 /// // A 2 × 2 cloud at ranges 1, 2, 3 and 4 m: the median (of the sample) is 3 m.
 /// let cloud = OrganizedPointCloud::new(2, 2, vec![
