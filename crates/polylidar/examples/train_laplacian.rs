@@ -15,7 +15,7 @@
 //! 80 % overlap). The best count per frame maximises f, then k, then is the smallest.
 //! The fit of the best count against `polylidar::estimate_noise` (relative to the point
 //! spacing) and against `polylidar::estimate_noise_absolute` (metres) are both printed;
-//! the relative one's constants go into `crates/polylidar/src/noise.rs`.
+//! the relative one's constants go into `crates/mesh-smooth-gpu/src/noise.rs`.
 //!
 //! Evaluation: held-out seeds 100–102 at each noise level, the `synpeb` preset with
 //! `iterations = "auto"` (the constants compiled into the library) against fixed 8.

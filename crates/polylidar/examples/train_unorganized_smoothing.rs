@@ -16,7 +16,7 @@
 //! seeds, then k, then is the smallest (one frame's scores jump by several points from
 //! one count to the next). The fit of the best count against the level's mean
 //! `cloud_normals::neighbourhood_noise` is printed; its constants go into
-//! `crates/polylidar/src/noise.rs`.
+//! `crates/cloud-normals/src/noise.rs`.
 //!
 //! Evaluation: held-out seeds 100–102 at each noise level, single view and four views
 //! merged, `smoothing = "auto"` (the constants compiled into the library) against the
