@@ -16,9 +16,9 @@ use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use halfedge_mesh::HalfEdgeMesh;
-use polylidar::shapes::{multipolygon_from_geojson, paper_alpha, sample_uniform};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
+use synthscan::shapes::{multipolygon_from_geojson, paper_alpha, sample_uniform};
 
 const N: usize = 64_000;
 

@@ -9,10 +9,9 @@
 use std::time::Duration;
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use polylidar::shapes::{
-    l2_error, multipolygon_from_geojson, paper_alpha, sample_uniform, to_multipolygon,
-};
+use polylidar::output::to_multipolygon;
 use polylidar::{Config, HalfEdgeMesh, Polylidar};
+use synthscan::shapes::{l2_error, multipolygon_from_geojson, paper_alpha, sample_uniform};
 
 const N: usize = 64_000;
 

@@ -22,7 +22,7 @@ fuzz_target!(|data: &[u8]| {
         return;
     };
     if let Ok(extraction) = polylidar.extract_2d(&points) {
-        for polygon in &polylidar::shapes::to_multipolygon(&extraction.polygons) {
+        for polygon in &polylidar::output::to_multipolygon(&extraction.polygons) {
             assert!(polygon.is_valid(), "{:?}", polygon.validation_errors());
         }
     }

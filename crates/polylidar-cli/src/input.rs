@@ -163,8 +163,8 @@ pub fn read_with_camera(
 }
 
 fn demo_shape() -> Result<Input, CliError> {
-    let shape = polylidar::shapes::demo_shape();
-    let points = polylidar::shapes::sample_uniform(&shape, DEMO_SHAPE_POINTS, 1)
+    let shape = synthscan::shapes::demo_shape();
+    let points = synthscan::shapes::sample_uniform(&shape, DEMO_SHAPE_POINTS, 1)
         .map_err(|e| CliError::Demo(e.to_string()))?;
     Ok(Input::Points2d(points))
 }

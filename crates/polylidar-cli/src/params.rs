@@ -348,7 +348,7 @@ pub fn significant(value: f64) -> String {
 
 /// α = 2·√(area / n) for the demo shape, as in the 2D paper's benchmarks.
 fn shape_demo_config() -> Config {
-    use polylidar::shapes::{demo_shape, paper_alpha};
+    use synthscan::shapes::{demo_shape, paper_alpha};
     Config::new()
         .with_alpha(paper_alpha(&demo_shape(), DEMO_SHAPE_POINTS))
         .with_min_triangles(20)

@@ -11,7 +11,7 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use polylidar::shapes::{multipolygon_from_geojson, sample_uniform};
+use synthscan::shapes::{multipolygon_from_geojson, sample_uniform};
 
 /// The commands of the README's example block, split into words, comments removed.
 fn readme_commands() -> Vec<Vec<String>> {

@@ -55,7 +55,6 @@ mod regions;
 mod reuse;
 pub mod scale;
 mod scan;
-pub mod shapes;
 pub mod stream;
 pub mod tiles;
 pub mod unorganized;

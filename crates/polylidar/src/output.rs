@@ -1,9 +1,11 @@
 //! Results as files and numbers: the GeoJSON writer shared by the command line and the
 //! Python package, and polygon areas measured in the polygon's own plane.
 
+pub use geo::MultiPolygon;
+use geo::{Coord, LineString, Polygon};
 use serde::{Serialize, Serializer};
 
-use crate::Extraction;
+use crate::{ExtractedPolygon, Extraction};
 
 /// Which polygons of an [`Extraction`] to write.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -292,6 +294,22 @@ pub fn ring_area(normal: [f64; 3], ring: &[[f64; 3]]) -> f64 {
 /// ```
 pub fn polygon_area(normal: [f64; 3], shell: &[[f64; 3]], holes: &[Vec<[f64; 3]>]) -> f64 {
     ring_area(normal, shell) - holes.iter().map(|h| ring_area(normal, h)).sum::<f64>()
+}
+
+/// The extracted polygons as a geo multipolygon in the xy plane.
+pub fn to_multipolygon(polygons: &[ExtractedPolygon]) -> MultiPolygon<f64> {
+    let ring = |points: &[[f64; 3]]| -> LineString<f64> {
+        points.iter().map(|p| Coord { x: p[0], y: p[1] }).collect()
+    };
+    polygons
+        .iter()
+        .map(|p| {
+            Polygon::new(
+                ring(&p.shell_points),
+                p.hole_points.iter().map(|h| ring(h)).collect(),
+            )
+        })
+        .collect()
 }
 
 #[cfg(test)]

@@ -69,9 +69,9 @@ fn bad_config_values_are_named() {
 
 #[test]
 fn results_do_not_depend_on_the_thread_count() {
-    let shape = polylidar::shapes::demo_shape();
-    let points = polylidar::shapes::sample_uniform(&shape, 5000, 3).unwrap();
-    let alpha = polylidar::shapes::paper_alpha(&shape, 5000);
+    let shape = synthscan::shapes::demo_shape();
+    let points = synthscan::shapes::sample_uniform(&shape, 5000, 3).unwrap();
+    let alpha = synthscan::shapes::paper_alpha(&shape, 5000);
     let run = |threads| {
         let extraction = Polylidar::new(Config::new().with_alpha(alpha).with_threads(threads))
             .unwrap()

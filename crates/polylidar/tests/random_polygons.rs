@@ -5,9 +5,10 @@
 //! cases were 6.1 %, 13.0 % and 25.0 %.
 
 use geo::{Contains, Coord, LineString, MultiPolygon, Polygon, Validation};
-use polylidar::shapes::{convexity, l2_error, sample_uniform, to_multipolygon};
+use polylidar::output::to_multipolygon;
 use polylidar::{Config, Polylidar};
 use proptest::prelude::*;
+use synthscan::shapes::{convexity, l2_error, sample_uniform};
 
 /// A star-shaped polygon: `radii.len()` vertices at increasing angles, each at a radius in
 /// `[min_radius, 1]`, with round holes placed where they fit.

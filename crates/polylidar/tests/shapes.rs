@@ -14,8 +14,9 @@
 //!   the α-shape's answer, charged to the L² error, and not counted as a hole here.
 
 use geo::{Area, BooleanOps, Validation};
-use polylidar::shapes::{l2_error, multipolygon_from_geojson, sample_uniform, to_multipolygon};
+use polylidar::output::to_multipolygon;
 use polylidar::{Config, Polylidar};
+use synthscan::shapes::{l2_error, multipolygon_from_geojson, sample_uniform};
 
 struct Case {
     name: &'static str,

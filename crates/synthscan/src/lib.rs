@@ -23,6 +23,8 @@
 //! * Airborne LiDAR: a [`City`] of flat, gabled and hipped roofs (courtyards as holes),
 //!   trees and streets, scanned in zig-zag strips, generated square by square
 //!   ([`City::tile`]) with ground-truth roof-plane labels, from 10⁵ to 10⁹ points.
+//! * 2D shapes ([`shapes`]): uniform samples inside polygons with holes, GeoJSON shapes,
+//!   the 2D paper's α and L² shape error, and the demo shape of `polylidar extract --demo`.
 //!
 //! Units: metres for lengths, degrees for angles, millidegrees for tangential noise. The
 //! world frame is right-handed; builders put z up and the floor on `z = 0`. Sensor frames
@@ -68,6 +70,7 @@ mod mesh;
 mod scan;
 mod scene;
 mod sensor;
+pub mod shapes;
 mod solid;
 mod triangulate;
 mod unorganized;

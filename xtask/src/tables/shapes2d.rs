@@ -5,10 +5,11 @@
 use std::fmt::Write as _;
 
 use geo_types::MultiPolygon;
-use polylidar::shapes::{
-    convexity, l2_error, multipolygon_from_geojson, paper_alpha, sample_uniform, to_multipolygon,
-};
+use polylidar::output::to_multipolygon;
 use polylidar::{Config, Polylidar};
+use synthscan::shapes::{
+    convexity, l2_error, multipolygon_from_geojson, paper_alpha, sample_uniform,
+};
 
 use crate::bench::Ctx;
 use crate::chart::{Axis, Chart, PALETTE, Series, log_ticks};

@@ -1,12 +1,11 @@
-//! Shapes with a known answer: uniform point samples inside (multi)polygons, the L² shape
-//! error of the 2D paper, GeoJSON shape loading, and the built-in demo shape.
+//! 2D shapes with a known answer, for the 2D path (Polylidar, the 2D paper): uniform point
+//! samples inside (multi)polygons, the paper's α and L² shape error, its convexity
+//! measure, GeoJSON shape loading, and the built-in demo shape.
 
 pub use geo::MultiPolygon;
 use geo::{Area, BooleanOps, Coord, LineString, Polygon, TriangulateEarcut};
 use rand::rngs::Xoshiro256PlusPlus;
 use rand::{RngExt, SeedableRng};
-
-use crate::ExtractedPolygon;
 
 /// Why a shape could not be used.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
@@ -109,22 +108,6 @@ pub fn l2_error(truth: &MultiPolygon<f64>, found: &MultiPolygon<f64>) -> f64 {
     let missed = truth.difference(found).unsigned_area();
     let extra = found.difference(truth).unsigned_area();
     (missed + extra) / truth.unsigned_area()
-}
-
-/// The extracted polygons as a geo multipolygon in the xy plane.
-pub fn to_multipolygon(polygons: &[ExtractedPolygon]) -> MultiPolygon<f64> {
-    let ring = |points: &[[f64; 3]]| -> LineString<f64> {
-        points.iter().map(|p| Coord { x: p[0], y: p[1] }).collect()
-    };
-    polygons
-        .iter()
-        .map(|p| {
-            Polygon::new(
-                ring(&p.shell_points),
-                p.hole_points.iter().map(|h| ring(h)).collect(),
-            )
-        })
-        .collect()
 }
 
 /// Area of a shape divided by the area of its convex hull (the 2D paper's convexity CV).
