@@ -1,8 +1,6 @@
 //! Tiled extraction against one run on the whole cloud (the oracle), on synthetic scenes.
 
-use geo::{
-    Area, BooleanOps, Contains, Coord, LineString, MultiPolygon, Point, Polygon, Validation,
-};
+use geo::{Area, BooleanOps, Contains, LineString, MultiPolygon, Point, Polygon, Validation};
 
 use super::*;
 
@@ -46,19 +44,7 @@ fn config() -> Config {
 }
 
 fn footprints(extraction: &crate::Extraction) -> Vec<Polygon<f64>> {
-    let ring = |points: &[[f64; 3]]| -> LineString<f64> {
-        points.iter().map(|p| Coord { x: p[0], y: p[1] }).collect()
-    };
-    extraction
-        .polygons
-        .iter()
-        .map(|p| {
-            Polygon::new(
-                ring(&p.shell_points),
-                p.hole_points.iter().map(|h| ring(h)).collect(),
-            )
-        })
-        .collect()
+    crate::output::to_multipolygon(&extraction.polygons).0
 }
 
 /// Area of the symmetric difference of `a` and `b` over the area of `a`.
