@@ -50,7 +50,7 @@ BIN="$FUZZ/target/$(rustc +nightly -vV | sed -n 's/^host: //p')/release"
 
 # Extensions whose fixtures seed each reader target.
 declare -A SEEDS=(
-    [pcd]="pcd" [lzf]="pcd" [ply]="ply" [obj]="obj" [npy]="npy" [las]="las laz"
+    [pcd]="pcd" [lzf]="pcd" [npy]="npy" [las]="las laz"
     [csv]="csv txt xyz" [png]="png jpg jpeg" [kitti]="bin" [intrinsics]="csv json"
 )
 # The pipeline target's first byte picks the format (as fuzz/src/lib.rs input_of).
@@ -85,6 +85,21 @@ make_corpus() {
             printf '\000min_triangles = 10\nlmax = 0.5\n' > "$dir/seed-0"
             printf '\001[laplacian]\niterations = 2\nlambda = 0.5\n[postprocess]\nalpha = 0.1\n' > "$dir/seed-1"
             printf '\002threads = 2\nnorm_thresh = 0.95\nz_thresh = 0.1\nup = [0, 0, 1]\n' > "$dir/seed-2"
+            ;;
+        ply)
+            # No PLY among the fixtures: without seeds the fuzzer never gets past the
+            # magic line. An ascii mesh with colours and both binary byte orders.
+            printf 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nproperty uchar red\nproperty uchar green\nproperty uchar blue\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0 255 0 0\n1 0 0 0 255 0\n0 1 0 0 0 255\n3 0 1 2\n' > "$dir/seed-ascii"
+            { printf 'ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty double x\nproperty double y\nproperty double z\nelement face 1\nproperty list uchar uint vertex_indices\nend_header\n'
+              python3 -c 'import struct, sys; sys.stdout.buffer.write(struct.pack("<9d", 0, 0, 0, 1, 0, 0, 0, 1, 0) + struct.pack("<B3I", 3, 0, 1, 2))'
+            } > "$dir/seed-le"
+            { printf 'ply\nformat binary_big_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n'
+              python3 -c 'import struct, sys; sys.stdout.buffer.write(struct.pack(">9f", 0, 0, 0, 1, 0, 0, 0, 1, 0) + struct.pack(">B3i", 3, 0, 1, 2))'
+            } > "$dir/seed-be"
+            ;;
+        obj)
+            # No OBJ among the fixtures either.
+            printf '# a square\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0 0.5 0.5 0.5\nvn 0 0 1\nf 1//1 2//1 3//1\nf 1/1 3/1 4/1\nf -4 -2 -1\n' > "$dir/seed-square"
             ;;
         *)
             for ext in ${SEEDS[$target]:-}; do

@@ -107,6 +107,9 @@ fn parse_header(bytes: &[u8]) -> KindResult<Header> {
         match words.as_slice() {
             [] | ["comment", ..] | ["obj_info", ..] => {}
             ["format", kind, _version] => {
+                if encoding.is_some() {
+                    return Err(header_error(line_no, "a second format line"));
+                }
                 encoding = Some(match *kind {
                     "ascii" => Encoding::Ascii,
                     "binary_little_endian" => Encoding::Little,
@@ -123,6 +126,13 @@ fn parse_header(bytes: &[u8]) -> KindResult<Header> {
                 let count = count
                     .parse::<usize>()
                     .map_err(|_| header_error(line_no, format!("element count {count:?}")))?;
+                // Which of two `vertex` elements would be the points? Neither: refused.
+                if elements.iter().any(|e| e.name == *name) {
+                    return Err(header_error(
+                        line_no,
+                        format!("element {name:?} declared a second time"),
+                    ));
+                }
                 elements.push(Element {
                     name: (*name).to_owned(),
                     count,
@@ -787,6 +797,36 @@ property double y\nproperty int z\nelement face 1\nproperty list uint ushort ver
     fn claimed_counts_are_checked_before_reading() {
         let e = parse_ply(b"ply\nformat binary_little_endian 1.0\nelement vertex 4000000000\nproperty float x\nproperty float y\nproperty float z\nend_header\n").unwrap_err();
         assert!(matches!(e.kind, ErrorKind::Truncated { .. }), "{e}");
+    }
+
+    /// Found by the `ply` fuzz target: a header with two `vertex` elements (and two format
+    /// lines) was read as three points by the mesh reader and six colours by the colour
+    /// reader.
+    #[test]
+    fn repeated_elements_and_format_lines_are_refused() {
+        let text = String::from_utf8_lossy(ASCII).replace(
+            "element face 2\n",
+            "element vertex 1\nproperty float x\nelement face 2\n",
+        );
+        let e = parse_ply(text.as_bytes()).unwrap_err();
+        assert!(
+            e.to_string().contains("\"vertex\" declared a second time"),
+            "{e}"
+        );
+        assert!(parse_ply_colors(text.as_bytes()).is_err());
+        let text = String::from_utf8_lossy(ASCII).replace(
+            "comment quad and triangle\n",
+            "format binary_big_endian 1.0\n",
+        );
+        let e = parse_ply(text.as_bytes()).unwrap_err();
+        assert!(e.to_string().contains("a second format line"), "{e}");
+        let crash =
+            b"ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n\
+property float z\nproperty uchar red\nproperty uchar green\nproperty uchar blue\n\
+element vertex 1\nproperty float x\nproperty float y\nproperty float z\nend_header\n\
+0 0 0 1 2 3\n4 5 6\n";
+        assert!(parse_ply(crash).is_err());
+        assert!(parse_ply_colors(crash).is_err());
     }
 
     #[test]
