@@ -51,7 +51,7 @@ BIN="$FUZZ/target/$(rustc +nightly -vV | sed -n 's/^host: //p')/release"
 # Extensions whose fixtures seed each reader target.
 declare -A SEEDS=(
     [pcd]="pcd" [lzf]="pcd" [npy]="npy" [las]="las laz"
-    [csv]="csv txt xyz" [png]="png jpg jpeg" [kitti]="bin" [intrinsics]="csv json"
+    [png]="png jpg jpeg" [kitti]="bin" [intrinsics]="csv json"
 )
 # The pipeline target's first byte picks the format (as fuzz/src/lib.rs input_of).
 declare -A FORMAT_BYTE=([pcd]=0 [ply]=1 [obj]=2 [npy]=3 [csv]=4 [las]=5 [laz]=5 [bin]=6 [png]=7)
@@ -96,6 +96,16 @@ make_corpus() {
             { printf 'ply\nformat binary_big_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n'
               python3 -c 'import struct, sys; sys.stdout.buffer.write(struct.pack(">9f", 0, 0, 0, 1, 0, 0, 0, 1, 0) + struct.pack(">B3i", 3, 0, 1, 2))'
             } > "$dir/seed-be"
+            ;;
+        csv)
+            # The fixtures' CSVs are camera metadata; point tables with and without a
+            # header, 2 and 3 columns, other separators.
+            printf 'x,y,z\n0,0,0\n1,0,0.5\n0,1,-0.5\n' > "$dir/seed-header"
+            printf '0 0\n1 0\n0 1\n1 1\n' > "$dir/seed-2d"
+            printf '0.5;1.5;2.5\n-1e3;2E-2;3\n' > "$dir/seed-semicolon"
+            for f in "$FIXTURES"/realsense/*.csv; do
+                [ -f "$f" ] && seed "$f" "$dir/seed-$((k++))"
+            done
             ;;
         obj)
             # No OBJ among the fixtures either.
