@@ -172,6 +172,24 @@ def test_killed_worker_is_retried_and_nothing_is_lost(client, city, tiled, tmp_p
     assert relative_difference(shapes(tiled), shapes(result)) < 1e-9
 
 
+def test_graphs_share_only_identical_tasks(city):
+    """Keys follow what a task computes: the same inputs give the same keys (dask may reuse
+    the work), a different tile function or preset never reuses another graph's tiles or
+    merges (fixed names did, while the first graph's results were held)."""
+    import polylidar_rs.dask as prd
+
+    a, _ = prd.files_graph(city, 50.0, 4.0, "rooftop")
+    again, _ = prd.files_graph(city, 50.0, 4.0, "rooftop")
+    assert a.key == again.key
+    other_function, _ = prd.files_graph(city, 50.0, 4.0, "rooftop",
+                                        extract=functools.partial(flaky_extract, "unused"))
+    other_preset, _ = prd.files_graph(city, 50.0, 4.0, "kitti")
+    for b in (other_function, other_preset):
+        shared = set(a.dask) & set(b.dask)
+        assert shared, "the same files are read by the same tasks"
+        assert not any(str(k).startswith(("polylidar-tile", "polylidar-merge")) for k in shared)
+
+
 def test_merge_refuses_a_tile_twice():
     grid = (0.0, 0.0, 10.0, 1.0, 2, 2)
     points = np.column_stack([np.random.default_rng(1).uniform(0, 10, (500, 2)), np.zeros(500)])

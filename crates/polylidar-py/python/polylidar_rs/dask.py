@@ -61,8 +61,11 @@ def tile_graph(leaves: Sequence[Tuple[Tuple[int, int], Callable[..., bytes], tup
                fan_in: int = 4, tolerance: Optional[Dict[str, float]] = None):
     """The graph: one ``dask.delayed`` task per leaf ``((col, row), function, args)``, then
     merges of ``fan_in`` results at a time up to one; the root ``Delayed`` (its value: the
-    encoded merged tile set)."""
+    encoded merged tile set). Task keys carry a token of everything the graph computes
+    from, so two graphs on one client never share a result they should not (fixed keys
+    let a second graph reuse the first one's tiles while they were still held)."""
     import dask
+    from dask.base import tokenize
 
     if fan_in < 2:
         raise ValueError(f"fan_in {fan_in} must be at least 2")
@@ -70,8 +73,9 @@ def tile_graph(leaves: Sequence[Tuple[Tuple[int, int], Callable[..., bytes], tup
         raise ValueError("no tile to extract")
     params = dict(params or {})
     tolerance = dict(tolerance or {})
+    token = tokenize(leaves, preset, params, tolerance, fan_in)
     level = [
-        dask.delayed(function, pure=True)(*args, dask_key_name=f"polylidar-tile-{c}-{r}")
+        dask.delayed(function, pure=True)(*args, dask_key_name=f"polylidar-tile-{c}-{r}-{token}")
         for (c, r), function, args in leaves
     ]
     depth = 0
@@ -80,13 +84,13 @@ def tile_graph(leaves: Sequence[Tuple[Tuple[int, int], Callable[..., bytes], tup
         level = [
             dask.delayed(merge_parts, pure=True)(
                 level[i:i + fan_in], preset, params, tolerance,
-                dask_key_name=f"polylidar-merge-{depth}-{i // fan_in}",
+                dask_key_name=f"polylidar-merge-{depth}-{i // fan_in}-{token}",
             )
             for i in range(0, len(level), fan_in)
         ]
     if depth == 0:
         level = [dask.delayed(merge_parts, pure=True)(level, preset, params, tolerance,
-                                                      dask_key_name="polylidar-merge-1-0")]
+                                                      dask_key_name=f"polylidar-merge-1-0-{token}")]
     return level[0]
 
 
@@ -99,6 +103,7 @@ def files_graph(paths: Sequence[Path], tile_size: float, margin: float, preset: 
     per tile on the pieces of its window. ``extract`` is the tile task's function (default
     :func:`extract_tile_pieces`; a wrapper of it can instrument the tiles)."""
     import dask
+    from dask.base import tokenize
 
     grid, plan = files_plan(paths, tile_size, margin)
     g = grid.as_tuple()
@@ -107,7 +112,8 @@ def files_graph(paths: Sequence[Path], tile_size: float, margin: float, preset: 
         for f in files:
             feeds.setdefault(f, []).append(tile)
     reads = {
-        f: dask.delayed(read_file_windows, pure=True)(f, g, tiles, dask_key_name=f"polylidar-read-{i}")
+        f: dask.delayed(read_file_windows, pure=True)(
+            f, g, tiles, dask_key_name=f"polylidar-read-{i}-{tokenize(f, g, tiles)}")
         for i, (f, tiles) in enumerate(sorted(feeds.items()))
     }
     leaves = [(tile, extract, ([reads[f][tile] for f in files], g, tile[0], tile[1], preset, params))
