@@ -1,4 +1,11 @@
-//! Region growing: edge-connected sets of kept triangles.
+//! Region growing of the 2D and 2.5D paths: edge-connected sets of kept triangles.
+//!
+//! This is Polylidar's (2D paper) region growing, not planeseg's (3D paper, Alg. 5), on
+//! purpose: on the 2D and 2.5D paths every triangle that passed the filters (α, `lmax`,
+//! angle to `up`) belongs to the one plane being extracted, so a region is simply an
+//! edge-connected component, with no dominant normal, plane offset or refinement to test.
+//! planeseg's grower needs triangle normals, dominant normals and a `z_thresh`, none of
+//! which the 2D path has; the organized, mesh and unorganized paths use planeseg.
 
 use halfedge_mesh::{HalfEdgeMesh, NO_TWIN};
 
