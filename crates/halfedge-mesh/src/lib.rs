@@ -15,6 +15,10 @@
 //!   policies of the Polylidar3D paper ([`NonManifoldPolicy`]);
 //! * arrays built elsewhere: [`HalfEdgeMesh::from_parts`] (checked).
 //!
+//! Polylidar's triangle filter ([`TriangleFilter`]: α, `lmax`, angle to an up direction)
+//! and region growing ([`Regions`]: edge-connected components of the kept triangles) run
+//! on any of them.
+//!
 //! Every constructor returns a [`MeshError`] naming the problem for bad input (too few
 //! points, NaN, collinear points, index out of range, degenerate triangles) and never
 //! panics on it. [`HalfEdgeMesh::sanity_check`] verifies all invariants.
@@ -36,12 +40,14 @@
 mod build;
 mod delaunay;
 mod error;
+mod filter;
 mod mesh;
 mod sweep;
 
 pub use build::{BuildReport, DegeneratePolicy, MeshOptions, NonManifoldPolicy};
 pub use delaunay::{DelaunayReport, MAX_COORDINATE};
 pub use error::MeshError;
+pub use filter::{FilterCounts, NO_REGION, Regions, TriangleFilter};
 pub use mesh::{HalfEdgeMesh, MeshParts, NO_TWIN, cross_normal, next_halfedge, prev_halfedge};
 pub use sweep::alpha::{AlphaComplexOptions, AlphaComplexReport};
 

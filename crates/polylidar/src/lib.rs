@@ -42,7 +42,6 @@ mod config;
 mod diagnostics;
 mod error;
 pub mod explain;
-mod filter;
 #[cfg(feature = "io")]
 pub mod io;
 mod mesh;
@@ -51,7 +50,6 @@ pub mod output;
 mod pipeline;
 mod pipeline3d;
 mod preset;
-mod regions;
 mod reuse;
 pub mod scale;
 mod scan;

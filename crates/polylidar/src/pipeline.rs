@@ -1,12 +1,10 @@
 //! The 2D and 2.5D Polylidar pipeline: mesh → filter → regions → polygons.
 
-use halfedge_mesh::{HalfEdgeMesh, MeshError};
+use halfedge_mesh::{HalfEdgeMesh, MeshError, Regions, TriangleFilter};
 use plane_geom::vec3::unit;
 use polyextract::Extractor;
 use rayon::prelude::*;
 
-use crate::filter::TriangleFilter;
-use crate::regions::Regions;
 use crate::{Config, Counts, Diagnostics, PolylidarError, Timings};
 
 /// A polygon with holes extracted from one region: point indices into the input, their
@@ -387,11 +385,12 @@ impl Polylidar {
     ) -> Result<Extraction, PolylidarError> {
         let config = &self.config;
         let (regions, kept) = timings.time("regions", || {
-            let filter = TriangleFilter {
-                alpha,
-                lmax: config.lmax,
-                normal: up.map(|u| (u, config.norm_thresh)),
-            };
+            let mut filter = TriangleFilter::new()
+                .with_alpha(alpha)
+                .with_lmax(config.lmax);
+            if let Some(u) = up {
+                filter = filter.with_up(u, config.norm_thresh);
+            }
             let (keep, dropped) = filter.apply(&mesh);
             counts.dropped_normal = dropped.normal;
             counts.dropped_lmax = dropped.lmax;
@@ -419,7 +418,7 @@ impl Polylidar {
                             .extract(
                                 &mesh,
                                 triangles,
-                                |t| regions.labels[t as usize] == label,
+                                |t| regions.labels()[t as usize] == label,
                                 |i| project(vertices[i as usize]),
                             )
                             .map_err(|source| PolylidarError::Extract { region: k, source })?;
