@@ -64,6 +64,13 @@ pub const GA_SAMPLE: usize = 100_000;
 /// `norm_thresh`, if tighter).
 pub const REFINE_COS: f64 = 0.98;
 
+/// A FastGA peak within this cosine of a direction already found (either sign), or within
+/// `norm_thresh` if tighter, is that direction again (about 18°). Fixed rather than
+/// `norm_thresh` itself: a loose assignment threshold for noisy normals (the `room`
+/// preset's 0.85) must not merge distinct nearby directions, whose points would then be
+/// triangulated along one of them.
+pub const SAME_DIRECTION_COS: f64 = 0.95;
+
 /// Parameters of the unorganized 3D path ([`Config::unorganized`]). Lengths in the unit of
 /// the coordinates.
 ///
@@ -349,7 +356,10 @@ impl Polylidar {
             let before = found.len();
             for d in peaks {
                 // Either sign of a direction found already (in this round: its antipode).
-                if found.iter().any(|f| dot(*f, d).abs() >= cos.max(0.9)) {
+                if found
+                    .iter()
+                    .any(|f| dot(*f, d).abs() >= cos.max(SAME_DIRECTION_COS))
+                {
                     continue;
                 }
                 if found.len() < MAX_DIRECTIONS {
