@@ -11,6 +11,8 @@
 //! * Meshes: an oblique view (from 35° above the horizon, 30° round `up`), triangles shaded
 //!   by the angle to the viewer, each plane's triangles in its own colour, others grey;
 //!   triangles facing away are not drawn, so a room is seen through its near walls.
+//! * Unorganized clouds on the 3D path: the same view of the planes, from the side of `up`
+//!   most of them face.
 
 use polylidar::{Extraction, OrganizedPointCloud, PlaneFrame};
 use tiny_skia::{Color, ColorU8, FillRule, Paint, PathBuilder, Pixmap, Rect, Stroke, Transform};
@@ -72,7 +74,7 @@ pub fn render(
             ],
         ),
         Input::Cloud(_) if !extraction.fitted.is_empty() => (
-            render_oblique(extraction, up)?,
+            render_oblique(extraction, facing_side(extraction, up))?,
             vec![(Swatch::Planes, "one colour per plane (3D path)".to_owned())],
         ),
         Input::Cloud(points) => (
@@ -559,6 +561,24 @@ fn hillshade(grid: &[f64], w: usize, h: usize, cell: f64) -> Vec<Option<f64>> {
             Some(s.clamp(0.0, 1.0))
         })
         .collect()
+}
+
+/// `up`, or its opposite when most of the planes' triangles face that way. The 3D path
+/// winds each plane's triangles along its direction, signed like the cloud's normals; when
+/// those point against `up` (a floor whose normals point down: `up` is the other way round
+/// for this cloud) the planes would be seen from behind and not drawn.
+fn facing_side(extraction: &Extraction, up: [f64; 3]) -> [f64; 3] {
+    let Some(normals) = extraction.mesh.triangle_normals() else {
+        return up;
+    };
+    let facing: f64 = extraction
+        .polygons
+        .iter()
+        .flat_map(|p| &p.triangles)
+        .filter_map(|&t| normals.get(t as usize))
+        .map(|n| n[0] * up[0] + n[1] * up[1] + n[2] * up[2])
+        .sum();
+    if facing < 0.0 { up.map(|c| -c) } else { up }
 }
 
 /// An oblique view of the mesh: orthographic, z-buffered, shaded by the angle between

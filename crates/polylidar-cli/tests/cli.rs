@@ -433,3 +433,55 @@ fn the_preset_help_names_every_preset() {
         );
     }
 }
+
+/// The 3D path's picture shows a floor whose normals point down (against `--up`): it is
+/// seen from the side its triangles face, not from behind (where they were culled and the
+/// picture was empty).
+#[test]
+fn a_floor_with_downward_normals_is_drawn() {
+    let dir = scratch("floor-down");
+    let (pcd, png) = (dir.join("floor.pcd"), dir.join("floor.png"));
+    let side = 50;
+    let mut text = format!(
+        "VERSION 0.7\nFIELDS x y z normal_x normal_y normal_z\nSIZE 4 4 4 4 4 4\n\
+         TYPE F F F F F F\nCOUNT 1 1 1 1 1 1\nWIDTH {n}\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\n\
+         POINTS {n}\nDATA ascii\n",
+        n = side * side
+    );
+    for i in 0..side {
+        for j in 0..side {
+            // A slight ripple: no exactly cocircular grid.
+            let z = 0.001 * ((i * 7 + j * 3) % 5) as f64;
+            text.push_str(&format!(
+                "{} {} {z} 0 0 -1\n",
+                0.02 * i as f64,
+                0.02 * j as f64
+            ));
+        }
+    }
+    std::fs::write(&pcd, text).unwrap();
+    let out = polylidar(&[
+        "extract",
+        pcd.to_str().unwrap(),
+        "--preset",
+        "room",
+        "--plot",
+        png.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let image = polylidar_io::read_color_image(&png).unwrap();
+    let coloured = image
+        .rgb
+        .iter()
+        .filter(|p| p.iter().any(|&c| c < 200))
+        .count();
+    assert!(
+        coloured * 5 > image.rgb.len(),
+        "{coloured} of {} pixels drawn",
+        image.rgb.len()
+    );
+}
