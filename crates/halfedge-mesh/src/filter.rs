@@ -5,7 +5,7 @@
 
 use rayon::prelude::*;
 
-use crate::{HalfEdgeMesh, NO_TWIN, cross_normal};
+use crate::{HalfEdgeMesh, MeshError, NO_TWIN, cross_normal};
 
 /// Triangles per parallel work item.
 const CHUNK: usize = 8192;
@@ -174,10 +174,11 @@ pub const NO_REGION: u32 = u32::MAX;
 ///          [2.0, 1.0, 0.0], [2.0, 2.0, 0.0]],
 ///     vec![[0, 1, 2], [0, 2, 3], [2, 4, 5]],
 /// )?;
-/// let regions = Regions::grow(&mesh, &[true, true, true]);
+/// let regions = Regions::grow(&mesh, &[true, true, true])?;
 /// assert_eq!(regions.len(), 2);
 /// assert_eq!(regions.region(0), [0, 1]);
-/// let regions = Regions::grow(&mesh, &[true, false, true]);
+/// let regions = Regions::grow(&mesh, &[true, false, true])?;
+/// assert!(Regions::grow(&mesh, &[true]).is_err());
 /// assert_eq!(regions.labels()[1], NO_REGION);
 /// # Ok::<(), halfedge_mesh::MeshError>(())
 /// ```
@@ -193,9 +194,16 @@ impl Regions {
     /// taken in triangle order, so the result is deterministic. The label array doubles
     /// as the visited set: no hashing.
     ///
-    /// # Panics
-    /// When `keep` has fewer flags than `mesh` has triangles.
-    pub fn grow(mesh: &HalfEdgeMesh, keep: &[bool]) -> Self {
+    /// # Errors
+    /// [`MeshError::LengthMismatch`] when `keep` does not hold one flag per triangle.
+    pub fn grow(mesh: &HalfEdgeMesh, keep: &[bool]) -> Result<Self, MeshError> {
+        if keep.len() != mesh.num_triangles() {
+            return Err(MeshError::LengthMismatch {
+                what: "keep flags",
+                found: keep.len(),
+                expected: mesh.num_triangles(),
+            });
+        }
         let twins = mesh.halfedges();
         let mut labels = vec![NO_REGION; keep.len()];
         let mut triangles = Vec::with_capacity(keep.iter().filter(|&&k| k).count());
@@ -225,11 +233,11 @@ impl Regions {
             }
             offsets.push(triangles.len() as u32);
         }
-        Self {
+        Ok(Self {
             labels,
             triangles,
             offsets,
-        }
+        })
     }
 
     /// Number of regions.
@@ -292,11 +300,11 @@ mod tests {
         ];
         let triangles = vec![[0, 1, 2], [0, 2, 3], [2, 4, 5], [2, 5, 6]];
         let mesh = HalfEdgeMesh::from_triangles(vertices, triangles).unwrap();
-        let regions = Regions::grow(&mesh, &[true; 4]);
+        let regions = Regions::grow(&mesh, &[true; 4]).unwrap();
         assert_eq!(regions.len(), 2);
         assert_eq!(regions.region(0), [0, 1]);
         assert_eq!(regions.region(1), [2, 3]);
-        let regions = Regions::grow(&mesh, &[true, false, true, true]);
+        let regions = Regions::grow(&mesh, &[true, false, true, true]).unwrap();
         assert_eq!(regions.len(), 2);
         assert_eq!(regions.labels()[1], NO_REGION);
     }

@@ -397,12 +397,12 @@ impl Polylidar {
             counts.dropped_alpha += dropped.alpha;
             counts.triangles_kept =
                 counts.triangles - dropped.normal - dropped.lmax - counts.dropped_alpha;
-            let regions = Regions::grow(&mesh, &keep);
+            let regions = Regions::grow(&mesh, &keep)?;
             let kept: Vec<usize> = (0..regions.len())
                 .filter(|&r| regions.region(r).len() >= config.min_triangles.max(1))
                 .collect();
-            (regions, kept)
-        });
+            Ok::<_, PolylidarError>((regions, kept))
+        })?;
         counts.regions = regions.len();
         counts.regions_too_small = regions.len() - kept.len();
 
