@@ -35,7 +35,12 @@
 //!    the same plane test (with the floor [`COPLANAR_FLOOR`]) are reported as lying on
 //!    one plane (a wall seen on both sides of an object in front of it); each keeps its
 //!    own polygon. A small piece ([`SMALL_PIECE_SHARE`]) needs its normal within
-//!    `norm_thresh` only and passes with the floor [`SMALL_PIECE_FLOOR`].
+//!    `norm_thresh` only and passes with the floor [`SMALL_PIECE_FLOOR`]. The normals
+//!    compared are the area normals or, when those disagree, the least-squares normals
+//!    of the triangle centroids: a piece's area normal depends on its boundary only, and
+//!    a short noisy boundary tilts it (on unorganized clouds, two pieces of one wall
+//!    triangulated along two directions came out 8–15° apart while their points fit
+//!    planes within 3°).
 //!
 //!
 //! Planes are area-weighted: the normal is the unit vector area of the triangles (which
@@ -145,6 +150,45 @@ impl PlaneSums {
         (self.weight > 0.0).then(|| Plane {
             normal,
             centroid: scale(self.first, 1.0 / self.weight),
+        })
+    }
+
+    /// The least-squares plane of the triangle centroids (area-weighted): the normal is
+    /// the covariance's eigenvector of the smallest eigenvalue, turned to the side of the
+    /// vector area. `None` without area, or when the spread is too thin across to fix the
+    /// normal (the middle eigenvalue below [`FIT_CONDITION`] times the smallest).
+    fn fitted(&self) -> Option<Plane> {
+        let area_normal = unit(self.area)?;
+        if self.weight <= 0.0 {
+            return None;
+        }
+        let w = self.weight;
+        let c = scale(self.first, 1.0 / w);
+        let s = &self.second;
+        let (xx, xy, xz) = (
+            s[0] / w - c[0] * c[0],
+            s[1] / w - c[0] * c[1],
+            s[2] / w - c[0] * c[2],
+        );
+        let (yy, yz, zz) = (
+            s[3] / w - c[1] * c[1],
+            s[4] / w - c[1] * c[2],
+            s[5] / w - c[2] * c[2],
+        );
+        let e = plane_geom::symmetric_eigen([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]])?;
+        // Also refuses a line of centroids (both eigenvalues 0); the values are finite.
+        if e.values[1] <= FIT_CONDITION * e.values[0].max(0.0) {
+            return None;
+        }
+        let n = e.vectors[0];
+        let normal = if dot(n, area_normal) < 0.0 {
+            scale(n, -1.0)
+        } else {
+            n
+        };
+        Some(Plane {
+            normal,
+            centroid: c,
         })
     }
 
@@ -819,18 +863,25 @@ fn relabel(labels: &mut [u32], index: &[u32]) {
 /// as one plane (5°), besides the plane-fit test of merging.
 pub const COPLANAR_COS: f64 = 0.996;
 
+/// How many times the smallest eigenvalue of a segment's spread the middle one must be for
+/// its least-squares normal to count ([`PlaneSums::fitted`]).
+const FIT_CONDITION: f64 = 4.0;
+
 /// For each segment (by its plane sums), the index of the first segment on the same plane
-/// (see [`PlanarSegment::plane`](crate::PlanarSegment::plane)): segments whose normals are
-/// within [`COPLANAR_COS`] and that one plane explains as merging requires (a small piece:
-/// see [`SMALL_PIECE_SHARE`]).
+/// (see [`PlanarSegment::plane`](crate::PlanarSegment::plane)): segments whose area
+/// normals or least-squares normals ([`PlaneSums::fitted`]) are within [`COPLANAR_COS`]
+/// and that one plane explains as merging requires (a small piece: see
+/// [`SMALL_PIECE_SHARE`]).
 fn coplanar(sums: &[PlaneSums], z_thresh: f64, norm_thresh: f64) -> Vec<u32> {
     let floor = merge_floor(z_thresh, COPLANAR_FLOOR);
     let small_floor = merge_floor(z_thresh, SMALL_PIECE_FLOOR);
     let small_cos = norm_thresh.min(COPLANAR_COS);
     let mut plane: Vec<u32> = (0..sums.len() as u32).collect();
     let mut members: Vec<PlaneSums> = sums.to_vec();
+    let mut fits: Vec<Option<Plane>> = sums.iter().map(PlaneSums::fitted).collect();
     for j in 0..sums.len() {
         let Some(pj) = sums[j].plane() else { continue };
+        let fj = fits[j];
         for i in 0..j {
             if plane[i] != i as u32 {
                 continue;
@@ -845,12 +896,17 @@ fn coplanar(sums: &[PlaneSums], z_thresh: f64, norm_thresh: f64) -> Vec<u32> {
             } else {
                 (COPLANAR_COS, floor)
             };
-            if dot(pi.normal, pj.normal) < cos {
+            let fitted_agree = match (fits[i], fj) {
+                (Some(fi), Some(fj)) => dot(fi.normal, fj.normal) >= cos,
+                _ => false,
+            };
+            if dot(pi.normal, pj.normal) < cos && !fitted_agree {
                 continue;
             }
             if let Some(merged) = one_plane(&members[i], &sums[j], floor) {
                 plane[j] = i as u32;
                 members[i] = merged;
+                fits[i] = merged.fitted();
                 break;
             }
         }
@@ -902,4 +958,84 @@ fn one_plane(a: &PlaneSums, b: &PlaneSums, floor: f64) -> Option<PlaneSums> {
     let pm = merged.plane()?;
     let bound = (MERGE_RMS_GROWTH * a.rms(&pa).max(b.rms(&pb))).max(floor);
     (a.rms(&pm) <= bound && b.rms(&pm) <= bound).then_some(merged)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The sums of a 5 × 5 grid of right triangles (legs 0.8) whose centroids lie on the
+    /// plane `z = lift` from `x = x0`, each tilted by `tilt` degrees about the x axis
+    /// around its centroid: shingles, whose vector area leans by `tilt` while the
+    /// centroids stay level, as a noisy boundary tilts a piece's area normal.
+    fn shingles(x0: f64, lift: f64, tilt: f64) -> PlaneSums {
+        let (sin, cos) = tilt.to_radians().sin_cos();
+        let base = [[-0.4, -0.4], [0.4, -0.4], [-0.4, 0.4]];
+        let centre = [-0.4 / 3.0, -0.4 / 3.0];
+        let mut sums = PlaneSums::default();
+        for i in 0..5 {
+            for j in 0..5 {
+                let corner = |[x, y]: [f64; 2]| {
+                    let (x, y) = (x - centre[0], y - centre[1]);
+                    [x0 + i as f64 + x, j as f64 + y * cos, lift + y * sin]
+                };
+                sums.add_triangle(base.map(corner));
+            }
+        }
+        sums
+    }
+
+    #[test]
+    fn the_fitted_plane_is_that_of_the_centroids() {
+        let sums = shingles(0.0, 2.0, 10.0);
+        let area = sums.plane().unwrap();
+        let fitted = sums.fitted().unwrap();
+        assert!((dot(area.normal, [0.0, 0.0, 1.0]) - 10f64.to_radians().cos()).abs() < 1e-12);
+        assert!(
+            (fitted.normal[2] - 1.0).abs() < 1e-12,
+            "{:?}",
+            fitted.normal
+        );
+        assert!((fitted.centroid[2] - 2.0).abs() < 1e-12);
+        // Centroids on a line fix no normal.
+        let mut line = PlaneSums::default();
+        for i in 0..5 {
+            let x = f64::from(i);
+            line.add_triangle([[x, 0.0, 0.0], [x + 0.5, 0.0, 0.0], [x, 0.5, 0.5]]);
+        }
+        assert!(line.plane().is_some());
+        assert!(line.fitted().is_none());
+    }
+
+    #[test]
+    fn disjoint_pieces_whose_centroids_fit_one_plane_share_it() {
+        let flat = shingles(0.0, 0.0, 0.0);
+        // Area normals 10° apart, more than COPLANAR_COS allows: the least-squares normals
+        // agree, and one plane explains both.
+        assert_eq!(
+            coplanar(&[flat, shingles(8.0, 0.0, 10.0)], 1.0, 0.95),
+            [0, 0]
+        );
+        // Raised by a metre the same piece is another plane.
+        assert_eq!(
+            coplanar(&[flat, shingles(8.0, 1.0, 10.0)], 1.0, 0.95),
+            [0, 1]
+        );
+        // A piece whose centroids lie on a plane 10° from the first is another plane.
+        let mut tilted = PlaneSums::default();
+        let (sin, cos) = 10f64.to_radians().sin_cos();
+        for i in 0..5 {
+            for j in 0..5 {
+                let p = |x: f64, y: f64| {
+                    [
+                        8.0 + f64::from(i) + x,
+                        (f64::from(j) + y) * cos,
+                        (f64::from(j) + y) * sin,
+                    ]
+                };
+                tilted.add_triangle([p(0.0, 0.0), p(0.8, 0.0), p(0.0, 0.8)]);
+            }
+        }
+        assert_eq!(coplanar(&[flat, tilted], 1.0, 0.95), [0, 1]);
+    }
 }
