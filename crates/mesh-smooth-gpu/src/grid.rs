@@ -25,6 +25,7 @@
 //! [`SlotNormals::for_triangle_map`] takes any slot → triangle map.
 
 use opc_mesh::OpcMesh;
+use rayon::prelude::*;
 
 use crate::SmoothError;
 
@@ -177,6 +178,9 @@ impl SlotNormals {
                 reason: "the map's length is not the number of slots",
             });
         }
+        if let Some(out) = self.in_slot_order(triangle_map, num_triangles) {
+            return Ok(out);
+        }
         let mut out = vec![[f64::NAN; 3]; num_triangles];
         let mut filled = 0usize;
         for (slot, (&t, n)) in triangle_map.iter().zip(&self.normals).enumerate() {
@@ -207,6 +211,75 @@ impl SlotNormals {
 }
 
 /// Widens a unit `f32` normal and renormalises it in `f64` (zero stays zero).
+impl SlotNormals {
+    /// [`Self::for_triangle_map`] in two parallel passes when the map numbers the
+    /// triangles of present slots 0, 1, 2, … in slot order, as `opc_mesh` builds it: the
+    /// normals in mesh order are then those of the present slots in slot order. `None`
+    /// when the map is any other (the serial pass then checks it and names what is wrong).
+    fn in_slot_order(&self, triangle_map: &[u32], num_triangles: usize) -> Option<Vec<[f64; 3]>> {
+        let chunks = || {
+            triangle_map
+                .par_chunks(SLOT_CHUNK)
+                .zip(self.normals.par_chunks(SLOT_CHUNK))
+        };
+        // Per chunk, its first triangle and how many it has, if they are consecutive
+        // and their slots present.
+        let runs: Vec<Option<(u32, usize)>> = chunks()
+            .map(|(map, normals)| {
+                let mut run: Option<(u32, usize)> = None;
+                for (&t, n) in map.iter().zip(normals) {
+                    if t == NO_TRIANGLE {
+                        continue;
+                    }
+                    if n[0].is_nan() {
+                        return None;
+                    }
+                    run = match run {
+                        None => Some((t, 1)),
+                        Some((first, count)) if t as usize == first as usize + count => {
+                            Some((first, count + 1))
+                        }
+                        Some(_) => return None,
+                    };
+                }
+                Some(run.unwrap_or((0, 0)))
+            })
+            .collect();
+        let mut total = 0usize;
+        for run in &runs {
+            let (first, count) = (*run)?;
+            if count > 0 && first as usize != total {
+                return None;
+            }
+            total += count;
+        }
+        if total != num_triangles {
+            return None;
+        }
+        let mut out = vec![[0.0; 3]; num_triangles];
+        let mut parts = Vec::with_capacity(runs.len());
+        let mut rest = out.as_mut_slice();
+        for (_, count) in runs.into_iter().flatten() {
+            let (part, tail) = rest.split_at_mut(count);
+            parts.push(part);
+            rest = tail;
+        }
+        parts
+            .into_par_iter()
+            .zip(chunks())
+            .for_each(|(part, (map, normals))| {
+                let present = map.iter().zip(normals).filter(|&(&t, _)| t != NO_TRIANGLE);
+                for (o, (_, n)) in part.iter_mut().zip(present) {
+                    *o = to_unit_f64(*n);
+                }
+            });
+        Some(out)
+    }
+}
+
+/// Slots per task of [`SlotNormals::in_slot_order`].
+const SLOT_CHUNK: usize = 1 << 15;
+
 fn to_unit_f64(n: [f32; 3]) -> [f64; 3] {
     let v = n.map(f64::from);
     let len = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
@@ -255,5 +328,70 @@ mod tests {
         assert_eq!(normals.at(0, 0, 0), Some([0.0, 0.0, 2.0]));
         assert_eq!(normals.at(0, 0, 1), None);
         assert_eq!(normals.at(1, 0, 0), None);
+    }
+
+    /// Slot by slot, as the map says: the definition the parallel pass must match.
+    fn reference(normals: &SlotNormals, map: &[u32], n: usize) -> Vec<[f64; 3]> {
+        let mut out = vec![[f64::NAN; 3]; n];
+        for (&t, v) in map.iter().zip(normals.as_slice()) {
+            if t != NO_TRIANGLE {
+                out[t as usize] = to_unit_f64(*v);
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn maps_in_slot_order_and_others_give_the_same_normals() {
+        // Three chunks and a bit, every fifth slot missing, a missing stretch across a
+        // chunk boundary.
+        let (rows, cols) = (3, 3 * SLOT_CHUNK / 4 + 5);
+        let slots = num_slots(rows, cols);
+        let present = |i: usize| i % 5 != 3 && !(SLOT_CHUNK - 9..SLOT_CHUNK + 4).contains(&i);
+        let values: Vec<[f32; 3]> = (0..slots)
+            .map(|i| match present(i) {
+                true => [i as f32, 1.0, -2.0],
+                false => [f32::NAN; 3],
+            })
+            .collect();
+        let normals = SlotNormals::new(rows, cols, values);
+        let mut next = 0u32;
+        let in_order: Vec<u32> = (0..slots)
+            .map(|i| match present(i) {
+                true => {
+                    next += 1;
+                    next - 1
+                }
+                false => NO_TRIANGLE,
+            })
+            .collect();
+        let n = next as usize;
+        let want = reference(&normals, &in_order, n);
+        assert!(normals.in_slot_order(&in_order, n).is_some());
+        assert_eq!(normals.for_triangle_map(&in_order, n), Ok(want));
+        // Triangles numbered backwards: the serial pass.
+        let backwards: Vec<u32> = in_order
+            .iter()
+            .map(|&t| if t == NO_TRIANGLE { t } else { next - 1 - t })
+            .collect();
+        assert!(normals.in_slot_order(&backwards, n).is_none());
+        assert_eq!(
+            normals.for_triangle_map(&backwards, n),
+            Ok(reference(&normals, &backwards, n))
+        );
+        // A number skipped in the second chunk, one too many triangles, a missing slot
+        // mapped: errors.
+        let mut gap = in_order.clone();
+        for t in gap[SLOT_CHUNK + 10..]
+            .iter_mut()
+            .filter(|t| **t != NO_TRIANGLE)
+        {
+            *t += 1;
+        }
+        assert!(normals.for_triangle_map(&gap, n).is_err());
+        assert!(normals.for_triangle_map(&in_order, n + 1).is_err());
+        let mut missing = in_order.clone();
+        missing[SLOT_CHUNK] = next;
+        assert!(normals.for_triangle_map(&missing, n + 1).is_err());
     }
 }
