@@ -181,8 +181,8 @@ struct Kernel<'a> {
 }
 
 /// Assigns one chunk (its first triangle is `first`), filling `slots` and `buckets`;
-/// compiled also for AVX2 and chosen at run time.
-#[multiversion::multiversion(targets("x86_64+avx2"))]
+/// compiled also for AVX-512 and AVX2 and chosen at run time.
+#[multiversion::multiversion(targets("x86_64+avx512f+avx512vl+avx512bw+avx512dq", "x86_64+avx2"))]
 fn chunk(
     kernel: &Kernel<'_>,
     first: u32,

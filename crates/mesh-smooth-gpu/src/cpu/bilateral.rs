@@ -167,7 +167,7 @@ impl TypePlanes {
 /// `[a, b, c]`, the unit normals `(b − a) × (c − a)` (zero when missing or degenerate),
 /// the centroids (zero when missing) and the mask. Vectorised; the arithmetic is the
 /// same on every target (no fused multiply-add), so results do not depend on the CPU.
-#[multiversion::multiversion(targets("x86_64+avx2"))]
+#[multiversion::multiversion(targets("x86_64+avx512f+avx512vl+avx512bw+avx512dq", "x86_64+avx2"))]
 fn type_row(
     [a, b, q]: [[&[f32]; 4]; 3],
     [nx, ny, nz]: [&mut [f32]; 3],
@@ -326,7 +326,7 @@ const BAND_ROWS: usize = 16;
 /// neighbours in raster order as the filter's definition does, so the results are the
 /// bits of the direct computation ([`direct_row`], which kernels too large for the
 /// ring use).
-#[multiversion::multiversion(targets("x86_64+avx2"))]
+#[multiversion::multiversion(targets("x86_64+avx512f+avx512vl+avx512bw+avx512dq", "x86_64+avx2"))]
 fn rows_of_band(
     filter: &Filter,
     first: usize,

@@ -133,7 +133,7 @@ struct Grid {
 }
 
 /// Writes row `r` of the next pass into `out` and its weight sums into `sums`.
-#[multiversion::multiversion(targets("x86_64+avx2"))]
+#[multiversion::multiversion(targets("x86_64+avx512f+avx512vl+avx512bw+avx512dq", "x86_64+avx2"))]
 fn row(grid: &Grid, r: usize, src: &Source<'_>, out: [&mut [f32]; 3], sums: &mut [f32]) {
     row_kernel(grid, r, src, out, sums)
 }
@@ -223,7 +223,7 @@ mod tests {
 
     use super::*;
 
-    /// The row kernel chosen at run time (AVX2 where the CPU has it) gives the bits of
+    /// The row kernel chosen at run time (AVX-512 or AVX2 where the CPU has them) gives the bits of
     /// the kernel as built for the baseline target.
     #[test]
     fn dispatched_row_matches_the_baseline_kernel() {

@@ -71,7 +71,7 @@ pub(crate) fn fill_planes(
 }
 
 /// One row of [`fill_planes`]; vectorised where the CPU allows.
-#[multiversion::multiversion(targets("x86_64+avx2"))]
+#[multiversion::multiversion(targets("x86_64+avx512f+avx512vl+avx512bw+avx512dq", "x86_64+avx2"))]
 fn fill_row(row: &[[f64; 3]], [x, y, z, m]: [&mut [f32]; 4]) {
     let len = row.len();
     let (x, y, z, m) = (&mut x[..len], &mut y[..len], &mut z[..len], &mut m[..len]);
