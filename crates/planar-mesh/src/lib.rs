@@ -5,7 +5,7 @@
 //! For one segment — its points, optional colours, and its boundary polygon with holes
 //! (for example from Polylidar3D) — [`simplify`] runs the paper's steps:
 //!
-//! 1. **preprocessing** (§IV-A1): least-squares plane by PCA ([`PlaneFrame::fit`]) and the
+//! 1. **preprocessing** (§IV-A1): least-squares plane by PCA ([`fit_frame`]) and the
 //!    transform into its x-y frame; the polygon serves as the concave hull;
 //! 2. **quadtree decimation** (§IV-A2): a square box over the polygon subdivided to a
 //!    [`Depth`]; nodes interior, boundary or exterior against the polygon with holes;
@@ -69,8 +69,9 @@ mod texture;
 mod triangulate;
 
 pub use error::MeshError;
-pub use frame::PlaneFrame;
+pub use frame::fit_frame;
 pub use merge::{ATLAS_GUTTER, Atlas, MergedMesh, Packing, PlaneRange, merge};
+pub use plane_geom::PlaneFrame;
 pub use quadtree::{AUTO_CELL_EDGES, MAX_DEPTH};
 pub use simplify::{Depth, MeshOptions, PlaneMesh, PlaneStats, Segment, simplify, simplify_all};
 pub use texture::{DEFAULT_TEXELS_PER_UNIT, Resolution, Texture, TextureOptions};

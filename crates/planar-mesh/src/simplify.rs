@@ -5,11 +5,12 @@ use std::time::Instant;
 use rayon::prelude::*;
 
 use crate::MeshError;
-use crate::frame::PlaneFrame;
+use crate::frame::fit_frame;
 use crate::polygon::{Polygon2, ring_area};
 use crate::quadtree::{MAX_DEPTH, Quadtree, auto_depth};
 use crate::texture::{Texture, TextureOptions, generate};
 use crate::triangulate::{Method, triangulate_segment};
+use plane_geom::PlaneFrame;
 
 /// A planar segment: its points (with colours for a texture) and the boundary polygon
 /// extracted for it (Polylidar3D's shell and holes), used as the concave hull.
@@ -224,9 +225,9 @@ fn plane_polygon(segment: &Segment<'_>) -> Result<(PlaneFrame, Polygon2), MeshEr
             });
         }
     }
-    let mut frame = PlaneFrame::fit(segment.points)?;
+    let mut frame = fit_frame(segment.points)?;
     let project = |frame: &PlaneFrame, ring: &[[f64; 3]]| -> Vec<[f64; 2]> {
-        ring.iter().map(|p| frame.to_plane(*p)).collect()
+        ring.iter().map(|p| frame.project(*p)).collect()
     };
     let mut shell = project(&frame, segment.shell);
     if ring_area(&shell) < 0.0 {
@@ -312,11 +313,11 @@ pub fn simplify(segment: &Segment<'_>, options: &MeshOptions) -> Result<PlaneMes
         .then(|| Quadtree::build(&polygon, depth, options.clearance));
     let decimated = Instant::now();
     let tri = triangulate_segment(&polygon, tree.as_ref(), options.method, options.conforming)?;
-    let vertices = tri.vertices.iter().map(|q| frame.to_world(*q)).collect();
+    let vertices = tri.vertices.iter().map(|q| frame.lift(*q)).collect();
     let triangulated = Instant::now();
     let (texture, uv) = match (&options.texture, segment.colors) {
         (Some(t), Some(colors)) => {
-            let points: Vec<[f64; 2]> = segment.points.iter().map(|p| frame.to_plane(*p)).collect();
+            let points: Vec<[f64; 2]> = segment.points.iter().map(|p| frame.project(*p)).collect();
             let texture = generate(&polygon, &points, colors, t)?;
             let uv = tri.vertices.iter().map(|q| texture.uv(*q)).collect();
             (Some(texture), uv)

@@ -76,12 +76,12 @@ proptest! {
         let (mesh, points, colors) = textured(&case, 0.5, options, seed);
         let texture = mesh.texture.as_ref().unwrap();
         let truth = case.geo();
-        let flat: Vec<[f64; 2]> = points.iter().map(|p| mesh.frame.to_plane(*p)).collect();
+        let flat: Vec<[f64; 2]> = points.iter().map(|p| mesh.frame.project(*p)).collect();
         let mut inside = 0;
         for row in 0..texture.height {
             for col in 0..texture.width {
                 let c = texture.texel_center(col, row);
-                let original = case.flatten(mesh.frame.to_world(c));
+                let original = case.flatten(mesh.frame.lift(c));
                 let is_inside = truth.contains(&geo::Point::new(original[0], original[1]));
                 let texel = texture.texel(col, row);
                 if is_inside || texel != [0, 0, 0] {

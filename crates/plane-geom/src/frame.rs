@@ -71,6 +71,43 @@ impl PlaneFrame {
         }
     }
 
+    /// The frame at `origin` with the in-plane axis `e1` and the `normal`, both unit and
+    /// orthogonal (trusted); `e2 = normal × e1`, normalised. For frames whose in-plane
+    /// axes mean something, such as a fitted plane's direction of largest spread, instead
+    /// of following the convention above.
+    ///
+    /// ```
+    /// use plane_geom::PlaneFrame;
+    ///
+    /// let frame = PlaneFrame::from_unit_axes([0.0, 0.0, 1.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]);
+    /// assert_eq!(frame.e2, [-1.0, 0.0, 0.0]);
+    /// assert_eq!(frame.project([2.0, 3.0, 1.0]), [3.0, -2.0]);
+    /// ```
+    #[inline]
+    pub fn from_unit_axes(origin: Vec3, e1: Vec3, normal: Vec3) -> Self {
+        let e2 = cross(normal, e1);
+        let length = norm(e2);
+        Self {
+            origin,
+            e1,
+            e2: e2.map(|v| v / length),
+            normal,
+        }
+    }
+
+    /// The frame seen from the other side: `e2` and `normal` reversed (still
+    /// right-handed), so 2D coordinates are mirrored in their second axis and a
+    /// clockwise ring becomes counter-clockwise.
+    #[inline]
+    #[must_use]
+    pub fn flipped(self) -> Self {
+        Self {
+            e2: scale(self.e2, -1.0),
+            normal: scale(self.normal, -1.0),
+            ..self
+        }
+    }
+
     /// The same axes with 2D coordinates measured from `origin` (a point on the plane;
     /// near the data keeps the coordinates small and precise).
     #[inline]
