@@ -57,7 +57,7 @@ pub enum SmoothError {
         /// What is wrong with it.
         reason: &'static str,
     },
-    /// [`Backend::Gpu`](crate::Backend::Gpu) was asked for, but the crate was built without
+    /// A [`GpuSmoother`](crate::GpuSmoother) was asked for, but the crate was built without
     /// its `gpu` feature.
     #[error("the GPU backend needs mesh-smooth-gpu built with the `gpu` cargo feature")]
     GpuFeatureDisabled,

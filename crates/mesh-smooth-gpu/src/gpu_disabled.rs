@@ -53,6 +53,24 @@ impl GpuSmoother {
     }
 }
 
+impl crate::Smoother for GpuSmoother {
+    fn laplacian(
+        &mut self,
+        _cloud: &OrganizedPointCloud,
+        _options: &LaplacianOptions,
+    ) -> Result<OrganizedPointCloud, SmoothError> {
+        match self.never {}
+    }
+
+    fn bilateral(
+        &mut self,
+        _cloud: &OrganizedPointCloud,
+        _options: &BilateralOptions,
+    ) -> Result<SlotNormals, SmoothError> {
+        match self.never {}
+    }
+}
+
 /// Always 0: this build has no GPU backend; see [`crate::adapter_requests`].
 pub fn adapter_requests() -> u64 {
     0

@@ -3,7 +3,7 @@
 //! Taubin and bilateral-normal smoothing for general half-edge meshes.
 //!
 //! ```
-//! use mesh_smooth_gpu::{Backend, BilateralOptions, LaplacianOptions};
+//! use mesh_smooth_gpu::{BilateralOptions, CpuSmoother, LaplacianOptions};
 //! use opc_mesh::OrganizedPointCloud;
 //!
 //! // A 6 × 6 range image of the plane z = 1 with one missing pixel.
@@ -16,8 +16,8 @@
 //! let smoothed = mesh_smooth_gpu::laplacian_filter(&cloud, &options)?;
 //! assert!(smoothed.points()[7][2] - 1.0 < 1e-6); // a plane stays a plane
 //!
-//! let options = BilateralOptions::new().with_backend(Backend::Cpu);
-//! let normals = mesh_smooth_gpu::bilateral_filter(&smoothed, &options)?;
+//! // The same filter on one thread: the backend is the smoother's type.
+//! let normals = CpuSmoother::serial().bilateral(&smoothed, &BilateralOptions::new())?;
 //! // 25 cells, 2 triangles each; the missing pixel removes 6 of them.
 //! assert_eq!(normals.num_present(), 50 - 6);
 //! let n = normals.at(2, 3, 0).expect("a present triangle");
@@ -37,8 +37,11 @@
 //!
 //! # Backends
 //!
-//! [`Backend::Cpu`] (one thread) and [`Backend::CpuParallel`] (rayon) run the same row
-//! kernels and give bit-identical results at any thread count. [`Backend::Gpu`] runs WGSL
+//! The backend is the smoother's type, and every smoother implements [`Smoother`].
+//! [`CpuSmoother::new`] (rows over the rayon pool) and [`CpuSmoother::serial`] (one
+//! thread) run the same row kernels and give bit-identical results at any thread count;
+//! the free functions [`laplacian_filter`] and [`bilateral_filter`] run the first.
+//! [`GpuSmoother`] runs WGSL
 //! compute shaders through wgpu that mirror those kernels operation for operation; GPUs
 //! may fuse multiply-adds and use their own `sqrt`, division and `exp`, so results agree
 //! with the CPU within `f32` rounding. The tests hold Laplacian points to 1e-5 relative to
@@ -61,8 +64,8 @@
 //!
 //! # Cargo features
 //!
-//! * `gpu` (default **off**): the wgpu backend behind [`GpuSmoother`] and
-//!   [`Backend::Gpu`]. Without it, `Backend::Gpu` and `GpuSmoother::new` return
+//! * `gpu` (default **off**): the wgpu backend behind [`GpuSmoother`]. Without it,
+//!   `GpuSmoother::new` returns
 //!   [`SmoothError::GpuFeatureDisabled`] (the type still exists, so code using it compiles
 //!   either way; `GpuSmoother::from_device` and `adapter_info`, which name wgpu types, need
 //!   the feature). Needs a
@@ -85,7 +88,7 @@ mod options;
 
 pub use cpu::CpuSmoother;
 pub use error::SmoothError;
-pub use filters::{bilateral_filter, laplacian_filter};
+pub use filters::{Smoother, bilateral_filter, laplacian_filter};
 #[cfg(feature = "gpu")]
 pub use gpu::GpuSmoother;
 #[cfg(not(feature = "gpu"))]
@@ -115,7 +118,7 @@ pub use noise::{
     estimate_noise, estimate_noise_absolute, estimate_noise_correlation, passes_by_range,
     predict_laplacian_iterations,
 };
-pub use options::{Backend, BilateralOptions, LaplacianOptions, MAX_ITERATIONS, MAX_KERNEL};
+pub use options::{BilateralOptions, LaplacianOptions, MAX_ITERATIONS, MAX_KERNEL};
 
 #[cfg(doctest)]
 #[doc = include_str!("../README.md")]

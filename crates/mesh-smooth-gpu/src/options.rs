@@ -1,4 +1,4 @@
-//! Options of the organized-cloud filters and the backend choice.
+//! Options of the organized-cloud filters.
 
 use crate::SmoothError;
 
@@ -9,24 +9,6 @@ pub const MAX_KERNEL: u32 = 15;
 /// Most passes of either filter (the papers use 2 to 8; the predicted Laplacian count is
 /// at most 16).
 pub const MAX_ITERATIONS: u32 = 1000;
-
-/// Where a filter on an organized cloud runs. All three give the same answer: `Cpu` and
-/// `CpuParallel` bit for bit, `Gpu` within f32 rounding (see the crate docs for the
-/// tolerance the tests hold it to).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-pub enum Backend {
-    /// One thread.
-    Cpu,
-    /// Rows spread over the current rayon thread pool (its size is the thread count; run
-    /// inside `ThreadPool::install` to choose it). Identical output to [`Backend::Cpu`] at
-    /// any thread count.
-    #[default]
-    CpuParallel,
-    /// wgpu compute shaders (cargo feature `gpu`). Through the free functions each call
-    /// creates a [`GpuSmoother`](crate::GpuSmoother) (finding the adapter and compiling the
-    /// shaders); create one yourself and reuse it when filtering many clouds.
-    Gpu,
-}
 
 /// Options of the Laplacian vertex filter on an organized cloud (Polylidar3D Eq. 1–2).
 ///
@@ -48,8 +30,6 @@ pub struct LaplacianOptions {
     /// ε of the inverse-distance weights, in the cloud's length unit; finite and > 0.
     /// Default 1e-6.
     pub epsilon: f32,
-    /// Where to run. Default [`Backend::CpuParallel`].
-    pub backend: Backend,
 }
 
 impl Default for LaplacianOptions {
@@ -59,13 +39,12 @@ impl Default for LaplacianOptions {
             lambda: 1.0,
             iterations: 2,
             epsilon: 1e-6,
-            backend: Backend::default(),
         }
     }
 }
 
 impl LaplacianOptions {
-    /// The defaults (kernel 3, λ 1, 2 iterations, ε 1e-6, [`Backend::CpuParallel`]).
+    /// The defaults (kernel 3, λ 1, 2 iterations, ε 1e-6).
     pub fn new() -> Self {
         Self::default()
     }
@@ -91,12 +70,6 @@ impl LaplacianOptions {
     /// Sets [`Self::epsilon`].
     pub fn with_epsilon(mut self, epsilon: f32) -> Self {
         self.epsilon = epsilon;
-        self
-    }
-
-    /// Sets [`Self::backend`].
-    pub fn with_backend(mut self, backend: Backend) -> Self {
-        self.backend = backend;
         self
     }
 
@@ -139,8 +112,6 @@ pub struct BilateralOptions {
     /// Number of passes, 0 to [`MAX_ITERATIONS`]; 0 returns the unfiltered normals.
     /// Default 2.
     pub iterations: u32,
-    /// Where to run. Default [`Backend::CpuParallel`].
-    pub backend: Backend,
 }
 
 impl Default for BilateralOptions {
@@ -150,13 +121,12 @@ impl Default for BilateralOptions {
             sigma_length: 0.1,
             sigma_angle: 0.1,
             iterations: 2,
-            backend: Backend::default(),
         }
     }
 }
 
 impl BilateralOptions {
-    /// The defaults (kernel 3, σ_l 0.1, σ_a 0.1, 2 iterations, [`Backend::CpuParallel`]).
+    /// The defaults (kernel 3, σ_l 0.1, σ_a 0.1, 2 iterations).
     pub fn new() -> Self {
         Self::default()
     }
@@ -182,12 +152,6 @@ impl BilateralOptions {
     /// Sets [`Self::iterations`].
     pub fn with_iterations(mut self, iterations: u32) -> Self {
         self.iterations = iterations;
-        self
-    }
-
-    /// Sets [`Self::backend`].
-    pub fn with_backend(mut self, backend: Backend) -> Self {
-        self.backend = backend;
         self
     }
 

@@ -1,10 +1,13 @@
-//! `Cpu` and `CpuParallel` give bit-identical results at any thread count.
+//! `CpuSmoother::serial` and `CpuSmoother::new` (the rayon pool) give bit-identical results
+//! at any thread count.
 #![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
 
 mod common;
 
 use common::{bits, normal_bits, wavy_cloud};
-use mesh_smooth_gpu::{Backend, BilateralOptions, LaplacianOptions, SmoothError};
+use mesh_smooth_gpu::{
+    BilateralOptions, CpuSmoother, GpuSmoother, LaplacianOptions, SmoothError, Smoother,
+};
 use proptest::prelude::*;
 
 fn pool(threads: usize) -> rayon::ThreadPool {
@@ -27,12 +30,11 @@ proptest! {
             .with_kernel(2 * half + 1)
             .with_lambda(lambda)
             .with_iterations(iterations);
-        let cpu = mesh_smooth_gpu::laplacian_filter(&cloud, &options.with_backend(Backend::Cpu))
-            .expect("valid options");
+        let cpu = CpuSmoother::serial().laplacian(&cloud, &options).expect("valid options");
         for threads in [1, 3, 4] {
-            let parallel = pool(threads).install(|| {
-                mesh_smooth_gpu::laplacian_filter(&cloud, &options.with_backend(Backend::CpuParallel))
-            }).expect("valid options");
+            let parallel = pool(threads)
+                .install(|| mesh_smooth_gpu::laplacian_filter(&cloud, &options))
+                .expect("valid options");
             prop_assert_eq!(bits(cpu.points()), bits(parallel.points()));
         }
     }
@@ -49,12 +51,11 @@ proptest! {
             .with_sigma_length(sigma_length)
             .with_sigma_angle(sigma_angle)
             .with_iterations(iterations);
-        let cpu = mesh_smooth_gpu::bilateral_filter(&cloud, &options.with_backend(Backend::Cpu))
-            .expect("valid options");
+        let cpu = CpuSmoother::serial().bilateral(&cloud, &options).expect("valid options");
         for threads in [1, 3, 4] {
-            let parallel = pool(threads).install(|| {
-                mesh_smooth_gpu::bilateral_filter(&cloud, &options.with_backend(Backend::CpuParallel))
-            }).expect("valid options");
+            let parallel = pool(threads)
+                .install(|| mesh_smooth_gpu::bilateral_filter(&cloud, &options))
+                .expect("valid options");
             prop_assert_eq!(normal_bits(cpu.as_slice()), normal_bits(parallel.as_slice()));
         }
     }
@@ -63,17 +64,23 @@ proptest! {
 #[test]
 fn invalid_options_are_errors_on_every_backend() {
     let cloud = wavy_cloud(8, 8, 1, 0.0, 0.0);
-    for backend in [Backend::Cpu, Backend::CpuParallel, Backend::Gpu] {
-        let options = LaplacianOptions::new().with_kernel(4).with_backend(backend);
+    let mut smoothers: Vec<Box<dyn Smoother>> = vec![
+        Box::new(CpuSmoother::serial()),
+        Box::new(CpuSmoother::new()),
+    ];
+    // Where this build has a GPU adapter; without the feature `new` is an error.
+    if let Ok(gpu) = GpuSmoother::new() {
+        smoothers.push(Box::new(gpu));
+    }
+    for smoother in &mut smoothers {
+        let options = LaplacianOptions::new().with_kernel(4);
         assert_eq!(
-            mesh_smooth_gpu::laplacian_filter(&cloud, &options),
+            smoother.laplacian(&cloud, &options),
             Err(SmoothError::InvalidKernel { kernel: 4 })
         );
-        let options = BilateralOptions::new()
-            .with_sigma_angle(f32::NAN)
-            .with_backend(backend);
+        let options = BilateralOptions::new().with_sigma_angle(f32::NAN);
         assert!(matches!(
-            mesh_smooth_gpu::bilateral_filter(&cloud, &options),
+            smoother.bilateral(&cloud, &options),
             Err(SmoothError::InvalidParameter {
                 name: "sigma_angle",
                 ..
@@ -85,18 +92,16 @@ fn invalid_options_are_errors_on_every_backend() {
 #[cfg(not(feature = "gpu"))]
 #[test]
 fn gpu_backend_without_the_feature_is_a_clear_error() {
-    let cloud = wavy_cloud(8, 8, 1, 0.0, 0.0);
-    let options = LaplacianOptions::new().with_backend(Backend::Gpu);
-    assert_eq!(
-        mesh_smooth_gpu::laplacian_filter(&cloud, &options),
+    assert!(matches!(
+        GpuSmoother::new(),
         Err(SmoothError::GpuFeatureDisabled)
-    );
+    ));
 }
 
 #[test]
 fn a_reused_cpu_smoother_matches_fresh_calls() {
-    use mesh_smooth_gpu::{CpuSmoother, SlotNormals};
-    let mut smoother = CpuSmoother::new(Backend::CpuParallel).unwrap();
+    use mesh_smooth_gpu::SlotNormals;
+    let mut smoother = CpuSmoother::new();
     let mut normals = SlotNormals::default();
     let laplacian = LaplacianOptions::new().with_kernel(5).with_iterations(3);
     let bilateral = BilateralOptions::new().with_iterations(2);
@@ -121,7 +126,7 @@ fn a_reused_cpu_smoother_matches_fresh_calls() {
         );
         assert_eq!((normals.cloud_rows(), normals.cloud_cols()), (rows, cols));
     }
-    assert!(CpuSmoother::new(Backend::Gpu).is_err());
+    assert!(smoother.is_parallel() && !CpuSmoother::serial().is_parallel());
 }
 
 proptest! {
@@ -138,14 +143,13 @@ proptest! {
         half in 1u32..3, a in 0u8..3, extra in 1u8..4, split in 0.2f64..0.8,
         threads in 1usize..4,
     ) {
-        use mesh_smooth_gpu::CpuSmoother;
         let b = a + extra;
         let cloud = wavy_cloud(rows, cols, seed, 0.01, holes);
         let options = LaplacianOptions::new().with_kernel(2 * half + 1).with_lambda(0.8);
         let boundary = (split * cols as f64) as usize;
         let passes: Vec<u8> =
             (0..rows * cols).map(|i| if i % cols < boundary { a } else { b }).collect();
-        let mut smoother = CpuSmoother::new(Backend::CpuParallel).expect("cpu");
+        let mut smoother = CpuSmoother::new();
         let mut mixed = cloud.clone();
         pool(threads)
             .install(|| smoother.laplacian_in_place_per_pixel(&mut mixed, &options, &passes))
@@ -177,7 +181,7 @@ proptest! {
 
 #[test]
 fn per_pixel_passes_need_one_count_per_point() {
-    let mut smoother = mesh_smooth_gpu::CpuSmoother::new(Backend::Cpu).unwrap();
+    let mut smoother = CpuSmoother::serial();
     let mut cloud = wavy_cloud(5, 5, 1, 0.01, 0.0);
     let before = bits(cloud.points());
     let error = smoother

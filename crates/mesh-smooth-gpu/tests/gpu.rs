@@ -7,7 +7,9 @@
 mod common;
 
 use common::{max_normal_difference, max_relative_difference, wavy_cloud};
-use mesh_smooth_gpu::{Backend, BilateralOptions, GpuSmoother, LaplacianOptions, SmoothError};
+use mesh_smooth_gpu::{
+    BilateralOptions, CpuSmoother, GpuSmoother, LaplacianOptions, SmoothError, Smoother,
+};
 
 /// Laplacian points: |gpu − cpu| ≤ this × (1 + |coordinate|).
 const LAPLACIAN_TOLERANCE: f64 = 1e-5;
@@ -54,9 +56,9 @@ fn laplacian_matches_cpu_on_random_clouds() {
                     .with_kernel(kernel)
                     .with_lambda(0.8)
                     .with_iterations(iterations);
-                let cpu =
-                    mesh_smooth_gpu::laplacian_filter(&cloud, &options.with_backend(Backend::Cpu))
-                        .expect("valid options");
+                let cpu = CpuSmoother::serial()
+                    .laplacian(&cloud, &options)
+                    .expect("valid options");
                 let on_gpu = gpu.laplacian(&cloud, &options).expect("GPU run");
                 let diff = max_relative_difference(on_gpu.points(), cpu.points());
                 assert!(
@@ -83,9 +85,9 @@ fn bilateral_matches_cpu_on_random_clouds() {
                     .with_sigma_length(0.1)
                     .with_sigma_angle(0.3)
                     .with_iterations(iterations);
-                let cpu =
-                    mesh_smooth_gpu::bilateral_filter(&cloud, &options.with_backend(Backend::Cpu))
-                        .expect("valid options");
+                let cpu = CpuSmoother::serial()
+                    .bilateral(&cloud, &options)
+                    .expect("valid options");
                 let on_gpu = gpu.bilateral(&cloud, &options).expect("GPU run");
                 let diff = max_normal_difference(on_gpu.as_slice(), cpu.as_slice());
                 assert!(
@@ -112,12 +114,17 @@ fn smoother_is_reused_across_shapes_and_filters() {
 }
 
 #[test]
-fn free_functions_run_on_the_gpu_backend() {
-    let Some(_) = gpu() else { return };
+fn the_gpu_is_a_smoother_like_the_cpu() {
+    let Some(gpu) = gpu() else { return };
     let cloud = wavy_cloud(16, 16, 9, 0.01, 0.05);
-    let options = BilateralOptions::new().with_backend(Backend::Gpu);
-    let normals = mesh_smooth_gpu::bilateral_filter(&cloud, &options).expect("GPU run");
-    assert_eq!(normals.as_slice().len(), 2 * 15 * 15);
+    let options = BilateralOptions::new();
+    let mut smoothers: [Box<dyn Smoother>; 2] = [Box::new(gpu), Box::new(CpuSmoother::new())];
+    let [on_gpu, on_cpu] = smoothers
+        .each_mut()
+        .map(|s| s.bilateral(&cloud, &options).expect("valid options"));
+    assert_eq!(on_gpu.as_slice().len(), 2 * 15 * 15);
+    let diff = max_normal_difference(on_gpu.as_slice(), on_cpu.as_slice());
+    assert!(diff <= BILATERAL_TOLERANCE, "difference {diff}");
 }
 
 /// The SynPEB cloud pc_01 (500 × 500, NaN where the simulated scan has no return).

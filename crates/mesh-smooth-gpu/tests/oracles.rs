@@ -5,12 +5,15 @@
 mod common;
 
 use common::{bilateral_oracle, bits, laplacian_oracle, planar_grid, wavy_cloud};
-use mesh_smooth_gpu::{Backend, BilateralOptions, LaplacianOptions};
+use mesh_smooth_gpu::{BilateralOptions, CpuSmoother, LaplacianOptions};
 use opc_mesh::{OpcMeshOptions, OrganizedPointCloud};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-const BACKENDS: [Backend; 2] = [Backend::Cpu, Backend::CpuParallel];
+/// Both CPU backends: one thread, the rayon pool.
+fn cpu_backends() -> [CpuSmoother; 2] {
+    [CpuSmoother::serial(), CpuSmoother::new()]
+}
 
 fn laplacian(cloud: &OrganizedPointCloud, options: LaplacianOptions) -> OrganizedPointCloud {
     mesh_smooth_gpu::laplacian_filter(cloud, &options).expect("valid options")
@@ -22,16 +25,34 @@ fn bilateral(cloud: &OrganizedPointCloud, options: BilateralOptions) -> Vec<[f32
         .into_vec()
 }
 
+fn laplacian_on(
+    smoother: &mut CpuSmoother,
+    cloud: &OrganizedPointCloud,
+    options: LaplacianOptions,
+) -> OrganizedPointCloud {
+    smoother.laplacian(cloud, &options).expect("valid options")
+}
+
+fn bilateral_on(
+    smoother: &mut CpuSmoother,
+    cloud: &OrganizedPointCloud,
+    options: BilateralOptions,
+) -> Vec<[f32; 3]> {
+    smoother
+        .bilateral(cloud, &options)
+        .expect("valid options")
+        .into_vec()
+}
+
 #[test]
 fn planar_grid_is_a_fixed_point_of_the_laplacian() {
     let cloud = planar_grid(20, 25);
-    for backend in BACKENDS {
+    for mut smoother in cpu_backends() {
         for kernel in [3, 5, 7] {
             let options = LaplacianOptions::new()
                 .with_kernel(kernel)
-                .with_iterations(4)
-                .with_backend(backend);
-            let out = laplacian(&cloud, options);
+                .with_iterations(4);
+            let out = laplacian_on(&mut smoother, &cloud, options);
             let diff = common::max_relative_difference(out.points(), cloud.points());
             assert!(diff < 1e-6, "kernel {kernel}: moved by {diff}");
         }
@@ -45,13 +66,12 @@ fn planar_grid_is_a_fixed_point_of_the_bilateral_filter() {
     // face −(−0.1, −0.2, 1).
     let len = (0.01f64 + 0.04 + 1.0).sqrt();
     let truth = [0.1 / len, 0.2 / len, -1.0 / len];
-    for backend in BACKENDS {
+    for mut smoother in cpu_backends() {
         for kernel in [3, 5] {
             let options = BilateralOptions::new()
                 .with_kernel(kernel)
-                .with_iterations(3)
-                .with_backend(backend);
-            for n in bilateral(&cloud, options) {
+                .with_iterations(3);
+            for n in bilateral_on(&mut smoother, &cloud, options) {
                 for k in 0..3 {
                     assert!(
                         (f64::from(n[k]) - truth[k]).abs() < 1e-5,
@@ -82,13 +102,12 @@ fn hand_computed_3x3_with_a_missing_corner() {
     let sum = 4.0 * w2 + 3.0 * w3;
     let lambda = 0.5;
     let expected = [lambda * (-w3 / sum), lambda * (-w3 / sum), 1.0 - lambda];
-    for backend in BACKENDS {
+    for mut smoother in cpu_backends() {
         let options = LaplacianOptions::new()
             .with_lambda(lambda as f32)
             .with_iterations(1)
-            .with_epsilon(eps as f32)
-            .with_backend(backend);
-        let out = laplacian(&cloud, options);
+            .with_epsilon(eps as f32);
+        let out = laplacian_on(&mut smoother, &cloud, options);
         for (got, want) in out.points()[4].iter().zip(expected) {
             assert!((got - want).abs() < 1e-6, "{:?}", out.points()[4]);
         }
@@ -105,13 +124,12 @@ fn laplacian_matches_the_f64_oracle() {
         let cloud = wavy_cloud(23 + seed as usize, 31, seed, 0.01, 0.15);
         for kernel in [3, 5] {
             let oracle = laplacian_oracle(&cloud, kernel, 0.7, 3, 1e-6);
-            for backend in BACKENDS {
+            for mut smoother in cpu_backends() {
                 let options = LaplacianOptions::new()
                     .with_kernel(kernel as u32)
                     .with_lambda(0.7)
-                    .with_iterations(3)
-                    .with_backend(backend);
-                let out = laplacian(&cloud, options);
+                    .with_iterations(3);
+                let out = laplacian_on(&mut smoother, &cloud, options);
                 let diff = common::max_relative_difference(out.points(), &oracle);
                 assert!(diff < 2e-6, "seed {seed} kernel {kernel}: {diff}");
             }
@@ -126,14 +144,13 @@ fn bilateral_matches_the_f64_oracle() {
         // 9 computes each weight where it is used; the others share them.
         for kernel in [3, 5, 9] {
             let oracle = bilateral_oracle(&cloud, kernel, 0.1, 0.3, 2);
-            for backend in BACKENDS {
+            for mut smoother in cpu_backends() {
                 let options = BilateralOptions::new()
                     .with_kernel(kernel as u32)
                     .with_sigma_length(0.1)
                     .with_sigma_angle(0.3)
-                    .with_iterations(2)
-                    .with_backend(backend);
-                let out = bilateral(&cloud, options);
+                    .with_iterations(2);
+                let out = bilateral_on(&mut smoother, &cloud, options);
                 for (slot, (got, want)) in out.iter().zip(&oracle).enumerate() {
                     match want {
                         None => assert!(got[0].is_nan(), "slot {slot} should be missing"),

@@ -4,7 +4,7 @@
 use std::sync::{Mutex, PoisonError};
 
 use fastga::{FastGa, FastGaConfig};
-use mesh_smooth_gpu::{Backend, BilateralOptions, CpuSmoother, LaplacianOptions};
+use mesh_smooth_gpu::{BilateralOptions, CpuSmoother, LaplacianOptions};
 use numpy::{PyArray1, PyUntypedArrayMethods};
 use polylidar::{DepthOptions, Intrinsics, OrganizedPointCloud, OrganizedPointCloudView};
 use polypost::{Plane, Polygon3, PostProcessor, PostprocessConfig};
@@ -107,11 +107,12 @@ impl FastGA {
     }
 }
 
-fn backend(threads: bool) -> Backend {
-    if threads {
-        Backend::CpuParallel
+/// The CPU smoother: rows over the rayon pool, or one thread.
+fn smoother(parallel: bool) -> CpuSmoother {
+    if parallel {
+        CpuSmoother::new()
     } else {
-        Backend::Cpu
+        CpuSmoother::serial()
     }
 }
 
@@ -132,14 +133,13 @@ fn laplacian_filter<'py>(
     let options = LaplacianOptions::new()
         .with_lambda(lambda_)
         .with_kernel(kernel)
-        .with_iterations(iterations)
-        .with_backend(backend(parallel));
+        .with_iterations(iterations);
     let out = py
         .detach(
             || -> Result<OrganizedPointCloud, polylidar::PolylidarError> {
                 // The copy is the output array: the filter runs in place on it.
                 let mut out = OrganizedPointCloudView::new(rows, cols, slice)?.to_cloud();
-                CpuSmoother::new(options.backend)?.laplacian_in_place(&mut out, &options)?;
+                smoother(parallel).laplacian_in_place(&mut out, &options)?;
                 Ok(out)
             },
         )
@@ -167,14 +167,11 @@ fn bilateral_filter<'py>(
         .with_sigma_length(sigma_length)
         .with_sigma_angle(sigma_angle)
         .with_kernel(kernel)
-        .with_iterations(iterations)
-        .with_backend(backend(parallel));
+        .with_iterations(iterations);
     let normals = py
         .detach(|| -> Result<Vec<[f32; 3]>, polylidar::PolylidarError> {
             let owned = OrganizedPointCloudView::new(rows, cols, slice)?.to_cloud();
-            Ok(CpuSmoother::new(options.backend)?
-                .bilateral(&owned, &options)?
-                .into_vec())
+            Ok(smoother(parallel).bilateral(&owned, &options)?.into_vec())
         })
         .map_err(|e| error(&e))?;
     let cells = (rows.saturating_sub(1), cols.saturating_sub(1));

@@ -1,7 +1,7 @@
 //! Pipeline parameters, with units and defaults, loadable from TOML.
 
 use fastga::FastGaConfig;
-use mesh_smooth_gpu::{Backend, BilateralOptions, LaplacianOptions, SmoothError};
+use mesh_smooth_gpu::{BilateralOptions, LaplacianOptions, SmoothError};
 use opc_mesh::FillOptions;
 use planeseg::SegmentationConfig;
 use polypost::PostprocessConfig;
@@ -232,7 +232,7 @@ impl Default for LaplacianConfig {
             lambda: o.lambda,
             iterations: LaplacianIterations::Fixed(o.iterations),
             range_exponent: 0.0,
-            backend: o.backend.into(),
+            backend: SmoothingBackend::default(),
         }
     }
 }
@@ -245,7 +245,6 @@ impl LaplacianConfig {
             .with_kernel(self.kernel)
             .with_lambda(self.lambda)
             .with_iterations(iterations)
-            .with_backend(self.backend.into())
     }
 }
 
@@ -370,7 +369,7 @@ impl Default for BilateralConfig {
             sigma_length: o.sigma_length,
             sigma_angle: o.sigma_angle,
             iterations: o.iterations,
-            backend: o.backend.into(),
+            backend: SmoothingBackend::default(),
         }
     }
 }
@@ -383,41 +382,21 @@ impl BilateralConfig {
             .with_sigma_length(self.sigma_length)
             .with_sigma_angle(self.sigma_angle)
             .with_iterations(self.iterations)
-            .with_backend(self.backend.into())
     }
 }
 
-/// Where the smoothing filters run.
+/// Where a smoothing filter runs: which smoother the pipeline keeps for it
+/// (`mesh_smooth_gpu::CpuSmoother::new`, `CpuSmoother::serial` or `GpuSmoother`).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum SmoothingBackend {
     /// One CPU thread.
     Cpu,
-    /// All worker threads.
+    /// All worker threads of the pipeline's pool.
     #[default]
     CpuParallel,
     /// The GPU through wgpu (needs the `gpu` feature of this crate).
     Gpu,
-}
-
-impl From<SmoothingBackend> for Backend {
-    fn from(b: SmoothingBackend) -> Self {
-        match b {
-            SmoothingBackend::Cpu => Backend::Cpu,
-            SmoothingBackend::CpuParallel => Backend::CpuParallel,
-            SmoothingBackend::Gpu => Backend::Gpu,
-        }
-    }
-}
-
-impl From<Backend> for SmoothingBackend {
-    fn from(b: Backend) -> Self {
-        match b {
-            Backend::Cpu => SmoothingBackend::Cpu,
-            Backend::CpuParallel => SmoothingBackend::CpuParallel,
-            Backend::Gpu => SmoothingBackend::Gpu,
-        }
-    }
 }
 
 /// FastGA parameters (Polylidar3D §6).

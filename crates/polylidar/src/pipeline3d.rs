@@ -5,11 +5,11 @@ use fastga::FastGa;
 use halfedge_mesh::{HalfEdgeMesh, MeshOptions};
 use std::borrow::Cow;
 
-use mesh_smooth_gpu::{Backend, SmoothError};
+use mesh_smooth_gpu::SmoothError;
 use opc_mesh::{OpcMeshOptions, OrganizedPointCloud, OrganizedPointCloudView};
 use polypost::{Plane, Polygon3, PostProcessor};
 
-use crate::config::{LaplacianConfig, LaplacianIterations};
+use crate::config::{LaplacianConfig, LaplacianIterations, SmoothingBackend};
 use crate::reuse;
 use crate::{
     Counts, ExtractedPolygon, Extraction, Polylidar, PolylidarError, PostprocessedPolygon, Timings,
@@ -96,7 +96,9 @@ impl Polylidar {
                 None => input.mesh(&options),
             })?;
             if let (Some(b), Some(c)) = (&config.bilateral, &cloud) {
-                timings.time("bilateral", || reuse.bilateral(c, &b.options(), &mut opc))?;
+                timings.time("bilateral", || {
+                    reuse.bilateral(b.backend, c, &b.options(), &mut opc)
+                })?;
             }
             // `extract_planes` takes the lock again for FastGA.
             drop(reuse);
@@ -299,18 +301,18 @@ fn laplacian(
         return Ok(0);
     }
     let options = l.options(iterations);
-    let passes = (l.range_exponent > 0.0 && options.backend != Backend::Gpu)
+    let passes = (l.range_exponent > 0.0 && l.backend != SmoothingBackend::Gpu)
         .then(|| mesh_smooth_gpu::passes_by_range(cloud, iterations, l.range_exponent))
         .flatten();
     if let Some(passes) = passes {
-        reuse.laplacian_per_pixel(cloud.to_mut(), &options, &passes)?;
+        reuse.laplacian_per_pixel(l.backend, cloud.to_mut(), &options, &passes)?;
         return Ok(iterations);
     }
     match cloud {
-        Cow::Owned(c) => reuse.laplacian_in_place(c, &options)?,
+        Cow::Owned(c) => reuse.laplacian_in_place(l.backend, c, &options)?,
         Cow::Borrowed(c) => {
             let source: &OrganizedPointCloud = c;
-            *cloud = Cow::Owned(reuse.laplacian(source, &options)?);
+            *cloud = Cow::Owned(reuse.laplacian(l.backend, source, &options)?);
         }
     }
     Ok(iterations)

@@ -7,10 +7,13 @@ use std::sync::{Mutex, MutexGuard, PoisonError};
 
 use fastga::FastGa;
 use mesh_smooth_gpu::{
-    Backend, BilateralOptions, CpuSmoother, GpuSmoother, LaplacianOptions, SlotNormals, SmoothError,
+    BilateralOptions, CpuSmoother, GpuSmoother, LaplacianOptions, SlotNormals, SmoothError,
+    Smoother,
 };
 use opc_mesh::{OpcMesh, OrganizedPointCloud};
 use planeseg::Segmenter;
+
+use crate::SmoothingBackend;
 
 /// Detectors and buffers reused across runs. Every use starts from a clean state (the
 /// accumulator is cleared, buffers are overwritten), so results do not depend on what ran
@@ -38,12 +41,22 @@ pub(crate) fn lock(slot: &Mutex<Reusable>) -> MutexGuard<'_, Reusable> {
 }
 
 impl Reusable {
-    fn cpu(&mut self, backend: Backend) -> Result<&mut CpuSmoother, SmoothError> {
-        let slot = &mut self.smoothers[usize::from(backend == Backend::CpuParallel)];
-        match slot {
-            Some(smoother) => Ok(smoother),
-            None => Ok(slot.insert(CpuSmoother::new(backend)?)),
-        }
+    /// The kept smoother of `backend`, created on its first use.
+    fn smoother(&mut self, backend: SmoothingBackend) -> Result<&mut dyn Smoother, SmoothError> {
+        Ok(match backend {
+            SmoothingBackend::Gpu => self.gpu()?,
+            cpu => self.cpu(cpu),
+        })
+    }
+
+    /// The kept CPU smoother: one thread for [`SmoothingBackend::Cpu`], the pool
+    /// otherwise.
+    fn cpu(&mut self, backend: SmoothingBackend) -> &mut CpuSmoother {
+        let parallel = backend != SmoothingBackend::Cpu;
+        self.smoothers[usize::from(parallel)].get_or_insert_with(|| match parallel {
+            true => CpuSmoother::new(),
+            false => CpuSmoother::serial(),
+        })
     }
 
     fn gpu(&mut self) -> Result<&mut GpuSmoother, SmoothError> {
@@ -53,68 +66,65 @@ impl Reusable {
         }
     }
 
-    /// The Laplacian filter of `cloud`, on a kept smoother.
+    /// The Laplacian filter of `cloud` on the kept smoother of `backend`.
     pub fn laplacian(
         &mut self,
+        backend: SmoothingBackend,
         cloud: &OrganizedPointCloud,
         options: &LaplacianOptions,
     ) -> Result<OrganizedPointCloud, SmoothError> {
-        match options.backend {
-            Backend::Gpu => {
-                options.validate()?;
-                self.gpu()?.laplacian(cloud, options)
-            }
-            cpu => self.cpu(cpu)?.laplacian(cloud, options),
-        }
+        self.smoother(backend)?.laplacian(cloud, options)
     }
 
-    /// The Laplacian filter of `cloud`, overwriting it, on a kept smoother (the GPU
-    /// backend filters into a new cloud that replaces it).
+    /// The Laplacian filter of `cloud`, overwriting it, on the kept smoother of `backend`
+    /// (the GPU filters into a new cloud that replaces it).
     pub fn laplacian_in_place(
         &mut self,
+        backend: SmoothingBackend,
         cloud: &mut OrganizedPointCloud,
         options: &LaplacianOptions,
     ) -> Result<(), SmoothError> {
-        match options.backend {
-            Backend::Gpu => {
-                *cloud = self.laplacian(cloud, options)?;
+        match backend {
+            SmoothingBackend::Gpu => {
+                *cloud = self.gpu()?.laplacian(cloud, options)?;
                 Ok(())
             }
-            cpu => self.cpu(cpu)?.laplacian_in_place(cloud, options),
+            cpu => self.cpu(cpu).laplacian_in_place(cloud, options),
         }
     }
 
-    /// The Laplacian filter of `cloud` with a pass count per pixel, overwriting it, on a
-    /// kept CPU smoother (the GPU backend has no per-pixel counts: an error).
+    /// The Laplacian filter of `cloud` with a pass count per pixel, overwriting it, on the
+    /// kept CPU smoother of `backend` (the GPU has no per-pixel counts: the caller runs
+    /// uniform passes there).
     pub fn laplacian_per_pixel(
         &mut self,
+        backend: SmoothingBackend,
         cloud: &mut OrganizedPointCloud,
         options: &LaplacianOptions,
         passes: &[u8],
     ) -> Result<(), SmoothError> {
-        self.cpu(options.backend)?
+        self.cpu(backend)
             .laplacian_in_place_per_pixel(cloud, options, passes)
     }
 
     /// The bilateral normal filter of `cloud`'s implicit mesh, written into `opc`'s
-    /// triangle normals, on a kept smoother.
+    /// triangle normals, on the kept smoother of `backend`.
     pub fn bilateral(
         &mut self,
+        backend: SmoothingBackend,
         cloud: &OrganizedPointCloud,
         options: &BilateralOptions,
         opc: &mut OpcMesh,
     ) -> Result<(), SmoothError> {
-        match options.backend {
-            Backend::Gpu => {
-                options.validate()?;
-                self.gpu()?
-                    .bilateral(cloud, options)?
-                    .apply_to_opc_mesh(opc)
-            }
+        match backend {
+            SmoothingBackend::Gpu => self
+                .gpu()?
+                .bilateral(cloud, options)?
+                .apply_to_opc_mesh(opc),
             cpu => {
                 let mut normals = std::mem::take(&mut self.normals);
                 let result = self
-                    .cpu(cpu)?
+                    .cpu(cpu)
                     .bilateral_into(cloud, options, &mut normals)
                     .and_then(|()| normals.apply_to_opc_mesh(opc));
                 self.normals = normals;

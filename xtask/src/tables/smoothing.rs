@@ -3,7 +3,7 @@
 
 use std::fmt::Write as _;
 
-use mesh_smooth_gpu::{Backend, BilateralOptions, CpuSmoother, GpuSmoother, LaplacianOptions};
+use mesh_smooth_gpu::{BilateralOptions, CpuSmoother, GpuSmoother, LaplacianOptions};
 use opc_mesh::OrganizedPointCloud;
 
 use crate::bench::Ctx;
@@ -20,11 +20,23 @@ const LAPLACIAN_RGBD: PaperRow = [(0.7, 3.5), (0.2, 0.9), (0.1, 0.2)];
 const BILATERAL_PC01: PaperRow = [(73.0, 354.0), (19.4, 90.9), (3.2, 4.4)];
 const BILATERAL_RGBD: PaperRow = [(7.2, 35.0), (1.9, 9.2), (0.5, 0.5)];
 
-/// A backend to time, with its thread count (0 for the GPU).
+/// A backend to time: the CPU on one thread or on a rayon pool of that many, or the GPU.
 #[derive(Clone, Copy)]
 enum Runner {
-    Cpu(Backend, usize),
+    Serial,
+    Parallel(usize),
     Gpu,
+}
+
+impl Runner {
+    /// The threads column.
+    fn threads(self) -> String {
+        match self {
+            Runner::Serial => "1".to_owned(),
+            Runner::Parallel(threads) => threads.to_string(),
+            Runner::Gpu => "–".to_owned(),
+        }
+    }
 }
 
 /// The filters' inputs and the GPU, if there is one.
@@ -42,8 +54,8 @@ pub fn run(ctx: &Ctx) -> Result<Section> {
     let mut setup = setup(ctx)?;
     let threads = ctx.parallel_threads();
     let mut runners = vec![
-        ("CPU, 1 thread", Runner::Cpu(Backend::Cpu, 1)),
-        ("CPU, rayon", Runner::Cpu(Backend::CpuParallel, threads)),
+        ("CPU, 1 thread", Runner::Serial),
+        ("CPU, rayon", Runner::Parallel(threads)),
     ];
     if setup.gpu.is_some() {
         runners.push(("GPU", Runner::Gpu));
@@ -95,10 +107,7 @@ pub fn run(ctx: &Ctx) -> Result<Section> {
                 table.row([
                     name.clone(),
                     (*label).to_owned(),
-                    match runner {
-                        Runner::Cpu(_, t) => t.to_string(),
-                        Runner::Gpu => "–".to_owned(),
-                    },
+                    runner.threads(),
                     cells[0].clone(),
                     cells[1].clone(),
                     format!("{p1:.1}; {p5:.1}"),
@@ -149,12 +158,9 @@ pub fn run(ctx: &Ctx) -> Result<Section> {
                 table.row([
                     label.to_owned(),
                     (*backend).to_owned(),
-                    match runner {
-                        Runner::Cpu(_, t) => t.to_string(),
-                        Runner::Gpu => "–".to_owned(),
-                    },
+                    runner.threads(),
                     stats.cell(),
-                    if matches!(runner, Runner::Cpu(Backend::CpuParallel, _)) {
+                    if matches!(runner, Runner::Parallel(_)) {
                         original.to_owned()
                     } else {
                         String::new()
@@ -221,13 +227,16 @@ fn time_filter(
     runs: Runs,
 ) -> Result<Stats> {
     match runner {
-        Runner::Cpu(backend, threads) => ctx.on_threads(threads, || {
-            let mut smoother = CpuSmoother::new(backend)?;
-            match options {
+        Runner::Serial | Runner::Parallel(_) => {
+            let (threads, mut smoother) = match runner {
+                Runner::Parallel(threads) => (threads, CpuSmoother::new()),
+                _ => (1, CpuSmoother::serial()),
+            };
+            ctx.on_threads(threads, || match options {
                 FilterOptions::Laplacian(o) => measure(runs, || Ok(smoother.laplacian(cloud, o)?)),
                 FilterOptions::Bilateral(o) => measure(runs, || Ok(smoother.bilateral(cloud, o)?)),
-            }
-        }),
+            })
+        }
         Runner::Gpu => {
             let Some(gpu) = gpu.as_mut() else {
                 return Err(crate::error::msg("no GPU adapter"));

@@ -1,12 +1,13 @@
-//! [`CpuSmoother`]: the CPU backends with buffers kept across calls.
+//! [`CpuSmoother`]: the CPU backend, with buffers kept across calls.
 
 use opc_mesh::OrganizedPointCloud;
 
 use super::bilateral::{BilateralWork, bilateral_into};
 use super::laplacian::{LaplacianWork, Passes, laplacian_in_place};
-use crate::{Backend, BilateralOptions, LaplacianOptions, SlotNormals, SmoothError};
+use crate::{BilateralOptions, LaplacianOptions, SlotNormals, SmoothError, Smoother};
 
-/// The CPU backends with their working buffers (`f32` planes, ping-pong buffers, triangle
+/// The CPU backend, on the current rayon thread pool ([`CpuSmoother::new`]) or on one
+/// thread ([`CpuSmoother::serial`]), bit for bit the same either way, with its working buffers (`f32` planes, ping-pong buffers, triangle
 /// normals and centroids) kept across calls, so that filtering a stream of clouds of one
 /// shape allocates nothing after the first call (fresh memory costs page faults: on a
 /// 500 × 500 cloud they were a third of a single Laplacian pass).
@@ -15,10 +16,10 @@ use crate::{Backend, BilateralOptions, LaplacianOptions, SlotNormals, SmoothErro
 /// one per call.
 ///
 /// ```
-/// use mesh_smooth_gpu::{Backend, BilateralOptions, CpuSmoother, LaplacianOptions, SlotNormals};
+/// use mesh_smooth_gpu::{BilateralOptions, CpuSmoother, LaplacianOptions, SlotNormals};
 /// use opc_mesh::OrganizedPointCloud;
 ///
-/// let mut smoother = CpuSmoother::new(Backend::CpuParallel)?;
+/// let mut smoother = CpuSmoother::new();
 /// let mut normals = SlotNormals::default();
 /// for frame in 0..3 {
 ///     let points: Vec<[f64; 3]> =
@@ -30,7 +31,6 @@ use crate::{Backend, BilateralOptions, LaplacianOptions, SlotNormals, SmoothErro
 /// }
 /// # Ok::<(), mesh_smooth_gpu::SmoothError>(())
 /// ```
-#[derive(Default)]
 pub struct CpuSmoother {
     parallel: bool,
     laplacian: LaplacianWork,
@@ -46,30 +46,31 @@ impl std::fmt::Debug for CpuSmoother {
 }
 
 impl CpuSmoother {
-    /// A smoother for [`Backend::Cpu`] or [`Backend::CpuParallel`].
-    ///
-    /// # Errors
-    /// [`SmoothError::InvalidParameter`] for [`Backend::Gpu`] (use `GpuSmoother`).
-    pub fn new(backend: Backend) -> Result<Self, SmoothError> {
-        let parallel = match backend {
-            Backend::Cpu => false,
-            Backend::CpuParallel => true,
-            Backend::Gpu => {
-                return Err(SmoothError::InvalidParameter {
-                    name: "backend",
-                    value: f64::NAN,
-                    reason: "CpuSmoother runs Backend::Cpu or Backend::CpuParallel; use GpuSmoother",
-                });
-            }
-        };
-        Ok(Self {
-            parallel,
-            ..Self::default()
-        })
+    /// A smoother whose rows are spread over the current rayon thread pool (its size is
+    /// the thread count; run inside `ThreadPool::install` to choose it).
+    pub fn new() -> Self {
+        Self {
+            parallel: true,
+            laplacian: LaplacianWork::default(),
+            bilateral: BilateralWork::default(),
+        }
     }
 
-    /// The Laplacian filter of [`crate::laplacian_filter`] on this smoother's backend
-    /// (`options.backend` is ignored), returning a new cloud.
+    /// A smoother that runs on the calling thread only.
+    pub fn serial() -> Self {
+        Self {
+            parallel: false,
+            ..Self::new()
+        }
+    }
+
+    /// Whether rows are spread over the rayon pool ([`Self::new`]) or not
+    /// ([`Self::serial`]).
+    pub fn is_parallel(&self) -> bool {
+        self.parallel
+    }
+
+    /// The Laplacian filter of [`crate::laplacian_filter`], returning a new cloud.
     ///
     /// # Errors
     /// Invalid options.
@@ -108,7 +109,7 @@ impl CpuSmoother {
     /// `n` iterations.
     ///
     /// ```
-    /// use mesh_smooth_gpu::{Backend, CpuSmoother, LaplacianOptions};
+    /// use mesh_smooth_gpu::{CpuSmoother, LaplacianOptions};
     /// use opc_mesh::OrganizedPointCloud;
     ///
     /// let points: Vec<[f64; 3]> =
@@ -116,7 +117,7 @@ impl CpuSmoother {
     /// let mut cloud = OrganizedPointCloud::new(10, 10, points.clone())?;
     /// // The left half stays as it is, the right half takes four passes.
     /// let passes: Vec<u8> = (0..100).map(|i| if i % 10 < 5 { 0 } else { 4 }).collect();
-    /// let mut smoother = CpuSmoother::new(Backend::Cpu)?;
+    /// let mut smoother = CpuSmoother::serial();
     /// smoother.laplacian_in_place_per_pixel(&mut cloud, &LaplacianOptions::new(), &passes)?;
     /// assert_eq!(cloud.points()[13], points[13]);
     /// assert_ne!(cloud.points()[17], points[17]);
@@ -144,8 +145,7 @@ impl CpuSmoother {
         Ok(())
     }
 
-    /// The bilateral filter of [`crate::bilateral_filter`] on this smoother's backend
-    /// (`options.backend` is ignored).
+    /// The bilateral filter of [`crate::bilateral_filter`].
     ///
     /// # Errors
     /// Invalid options.
@@ -174,5 +174,30 @@ impl CpuSmoother {
             bilateral_into(&mut self.bilateral, cloud, options, self.parallel, normals);
         });
         Ok(())
+    }
+}
+
+impl Default for CpuSmoother {
+    /// [`CpuSmoother::new`].
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl Smoother for CpuSmoother {
+    fn laplacian(
+        &mut self,
+        cloud: &OrganizedPointCloud,
+        options: &LaplacianOptions,
+    ) -> Result<OrganizedPointCloud, SmoothError> {
+        CpuSmoother::laplacian(self, cloud, options)
+    }
+
+    fn bilateral(
+        &mut self,
+        cloud: &OrganizedPointCloud,
+        options: &BilateralOptions,
+    ) -> Result<SlotNormals, SmoothError> {
+        CpuSmoother::bilateral(self, cloud, options)
     }
 }

@@ -167,8 +167,7 @@ impl GpuSmoother {
         }
     }
 
-    /// The Laplacian filter of [`crate::laplacian_filter`] on this GPU (`options.backend` is
-    /// ignored).
+    /// The Laplacian filter of [`crate::laplacian_filter`] on this GPU.
     ///
     /// # Errors
     /// Invalid options, a cloud too large for the device, or a GPU failure.
@@ -229,7 +228,7 @@ impl GpuSmoother {
     }
 
     /// The bilateral normal filter of [`crate::bilateral_filter`] on this GPU, normals and
-    /// centroids computed on the device too (`options.backend` is ignored).
+    /// centroids computed on the device too.
     ///
     /// # Errors
     /// Invalid options, a cloud too large for the device, or a GPU failure.
@@ -540,5 +539,23 @@ fn gpu_error(e: impl std::fmt::Display) -> SmoothError {
 fn missing_buffers() -> SmoothError {
     SmoothError::Gpu {
         reason: "buffers were not allocated".to_owned(),
+    }
+}
+
+impl crate::Smoother for GpuSmoother {
+    fn laplacian(
+        &mut self,
+        cloud: &OrganizedPointCloud,
+        options: &LaplacianOptions,
+    ) -> Result<OrganizedPointCloud, SmoothError> {
+        GpuSmoother::laplacian(self, cloud, options)
+    }
+
+    fn bilateral(
+        &mut self,
+        cloud: &OrganizedPointCloud,
+        options: &BilateralOptions,
+    ) -> Result<SlotNormals, SmoothError> {
+        GpuSmoother::bilateral(self, cloud, options)
     }
 }
