@@ -87,7 +87,7 @@ fn bench(c: &mut Criterion) {
     ];
     let rgbd = Config::preset("rgbd").expect("preset");
     let post = rgbd.postprocess.expect("the rgbd preset post-processes");
-    let processor = PostProcessor::new(post.config()).expect("valid post-processing");
+    let processor = PostProcessor::new(post).expect("valid post-processing");
 
     let mut group = c.benchmark_group("pipeline_3d");
     group

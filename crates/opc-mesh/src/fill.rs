@@ -8,10 +8,12 @@
 
 use rayon::prelude::*;
 
-use crate::{OrganizedPointCloud, is_valid};
+use crate::{OpcError, OrganizedPointCloud, is_valid};
 
 /// When an invalid pixel is filled ([`OrganizedPointCloud::fill_missing`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(default, deny_unknown_fields))]
 #[non_exhaustive]
 pub struct FillOptions {
     /// Valid pixels needed among the 8 around it, 1–8. Default 4.
@@ -42,6 +44,37 @@ impl FillOptions {
         self.max_spread = max_spread;
         self
     }
+
+    /// Checks the ranges [`OrganizedPointCloud::fill_missing`] needs (outside them it
+    /// fills nothing).
+    ///
+    /// ```
+    /// use opc_mesh::{FillOptions, OpcError};
+    ///
+    /// assert!(FillOptions::default().validate().is_ok());
+    /// let error = FillOptions::default().with_min_neighbours(9).validate().unwrap_err();
+    /// assert!(matches!(error, OpcError::InvalidParameter { name: "min_neighbours", .. }));
+    /// ```
+    ///
+    /// # Errors
+    /// [`OpcError::InvalidParameter`] naming the first field out of range.
+    pub fn validate(&self) -> Result<(), OpcError> {
+        if !(1..=8).contains(&self.min_neighbours) {
+            return Err(OpcError::InvalidParameter {
+                name: "min_neighbours",
+                value: self.min_neighbours.to_string(),
+                expected: "1 to 8",
+            });
+        }
+        if !(self.max_spread.is_finite() && self.max_spread >= 0.0) {
+            return Err(OpcError::InvalidParameter {
+                name: "max_spread",
+                value: self.max_spread.to_string(),
+                expected: "a finite share ≥ 0",
+            });
+        }
+        Ok(())
+    }
 }
 
 impl OrganizedPointCloud {
@@ -68,8 +101,7 @@ impl OrganizedPointCloud {
     pub fn fill_missing(&mut self, options: &FillOptions) -> Vec<bool> {
         let (rows, cols) = (self.rows(), self.cols());
         let mut filled = vec![false; rows * cols];
-        let spread_ok = options.max_spread.is_finite() && options.max_spread >= 0.0;
-        if !(1..=8).contains(&options.min_neighbours) || !spread_ok || rows < 3 || cols < 3 {
+        if options.validate().is_err() || rows < 3 || cols < 3 {
             return filled;
         }
         let points = self.points();

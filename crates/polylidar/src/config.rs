@@ -2,12 +2,12 @@
 
 use fastga::FastGaConfig;
 use mesh_smooth_gpu::{BilateralOptions, LaplacianOptions, SmoothError};
-use opc_mesh::FillOptions;
+use opc_mesh::{FillOptions, OpcError};
 use planeseg::SegmentationConfig;
 use polypost::PostprocessConfig;
 use serde::{Deserialize, Serialize};
 
-use crate::{PolylidarError, Preset, ScanSection};
+use crate::{PolylidarError, Preset, ScanConfig};
 
 /// `with_<field>` builders, one per listed field, each documented as setting it: the
 /// configuration structs are `#[non_exhaustive]`, so code outside this crate builds them
@@ -31,12 +31,7 @@ pub(crate) use setters;
 setters!(Config {
     with_min_area => min_area: f64,
     with_refine => refine: bool,
-    with_scan => scan: Option<ScanSection>,
-});
-
-setters!(FillConfig {
-    with_min_neighbours => min_neighbours: u8,
-    with_max_spread => max_spread: f64,
+    with_scan => scan: Option<ScanConfig>,
 });
 
 setters!(LaplacianConfig {
@@ -55,21 +50,13 @@ setters!(BilateralConfig {
     with_backend => backend: SmoothingBackend,
 });
 
-setters!(FastGaSection {
+setters!(DominantNormalsConfig {
     with_level => level: u32,
     with_sample_fraction => sample_fraction: f64,
     with_min_samples => min_samples: usize,
     with_value_threshold => value_threshold: f64,
     with_cluster_distance => cluster_distance: f64,
     with_min_cluster_weight => min_cluster_weight: f64,
-});
-
-setters!(PostprocessSection {
-    with_alpha => alpha: f64,
-    with_beta_pos => beta_pos: f64,
-    with_beta_neg => beta_neg: f64,
-    with_min_area => min_area: f64,
-    with_min_hole_area => min_hole_area: f64,
 });
 
 /// Parameters of the 2D and 2.5D pipelines. Field names follow the papers and are the TOML
@@ -120,9 +107,9 @@ pub struct Config {
     /// Organized clouds: bilateral normal smoothing after meshing; absent = off.
     pub bilateral: Option<BilateralConfig>,
     /// 3D: dominant-normal detection (FastGA) on the triangle normals.
-    pub fastga: FastGaSection,
+    pub fastga: DominantNormalsConfig,
     /// Polygon post-processing (simplify, buffer, area filters); absent = off.
-    pub postprocess: Option<PostprocessSection>,
+    pub postprocess: Option<PostprocessConfig>,
     /// 3D: refine the planar segments before their polygons are extracted (absorb the
     /// triangles that fit a segment's plane, grow planes that no dominant normal
     /// explains, merge neighbouring segments of one plane; see
@@ -132,49 +119,16 @@ pub struct Config {
     /// [`opc_mesh::OrganizedPointCloud::fill_missing`]); their labels stay `-1` in
     /// [`crate::Extraction::point_labels`] and [`crate::Extraction::plane_labels`], as the
     /// input has no measurement there. Absent = off.
-    pub fill_missing: Option<FillConfig>,
+    pub fill_missing: Option<FillOptions>,
     /// Unorganized clouds: treat the cloud as one frame of a rotating LiDAR (thinning,
-    /// beam outliers, optionally the range image; see [`ScanSection`] and
+    /// beam outliers, optionally the range image; see [`ScanConfig`] and
     /// [`crate::Polylidar::extract_scan`]); absent = the points are taken as given.
-    pub scan: Option<ScanSection>,
+    pub scan: Option<ScanConfig>,
     /// Unorganized clouds: take the 3D path, planes in every direction (normals, dominant
     /// directions, a triangulation per direction; see
-    /// [`crate::Polylidar::extract_unorganized`] and [`crate::UnorganizedSection`]);
+    /// [`crate::Polylidar::extract_unorganized`] and [`crate::UnorganizedConfig`]);
     /// absent = the 2.5D path along [`Config::up`].
-    pub unorganized: Option<crate::UnorganizedSection>,
-}
-
-/// When an organized cloud's missing pixel is filled ([`Config::fill_missing`]): from at
-/// least `min_neighbours` of its 8 neighbours whose ranges spread by at most `max_spread`
-/// of the nearest (they lie on one surface).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-#[non_exhaustive]
-pub struct FillConfig {
-    /// Valid neighbours needed, 1–8. Default 4.
-    pub min_neighbours: u8,
-    /// Largest spread of their ranges, as a share of the nearest. Default 0.03.
-    pub max_spread: f64,
-}
-
-impl Default for FillConfig {
-    /// The filler's own defaults ([`FillOptions::default`]).
-    fn default() -> Self {
-        let o = FillOptions::default();
-        Self {
-            min_neighbours: o.min_neighbours,
-            max_spread: o.max_spread,
-        }
-    }
-}
-
-impl FillConfig {
-    /// The filler's options.
-    pub fn options(&self) -> FillOptions {
-        FillOptions::default()
-            .with_min_neighbours(self.min_neighbours)
-            .with_max_spread(self.max_spread)
-    }
+    pub unorganized: Option<crate::UnorganizedConfig>,
 }
 
 /// Most worker threads per core: [`Config::threads`] is at most this many times the
@@ -399,11 +353,15 @@ pub enum SmoothingBackend {
     Gpu,
 }
 
-/// FastGA parameters (Polylidar3D §6).
+/// Dominant-normal detection as the pipeline runs it (FastGA, Polylidar3D §6; the TOML
+/// table `[fastga]`): the detector's parameters ([`FastGaConfig`]) with the pipeline's
+/// sampling, 12 % of the triangle normals but at least [`Self::min_samples`], which
+/// [`Self::config_for`] turns into the detector's configuration for a mesh. Not a copy
+/// of [`FastGaConfig`], whose standalone default integrates every normal.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 #[non_exhaustive]
-pub struct FastGaSection {
+pub struct DominantNormalsConfig {
     /// Icosahedron refinement level (0–7).
     pub level: u32,
     /// Fraction of the triangle normals integrated, in (0, 1] (raised for small meshes
@@ -420,7 +378,7 @@ pub struct FastGaSection {
     pub min_cluster_weight: f64,
 }
 
-impl Default for FastGaSection {
+impl Default for DominantNormalsConfig {
     /// FastGA's own defaults ([`FastGaConfig::default`]), sampling the paper's 12 % of at
     /// least 10,000 normals.
     fn default() -> Self {
@@ -436,7 +394,7 @@ impl Default for FastGaSection {
     }
 }
 
-impl From<FastGaConfig> for FastGaSection {
+impl From<FastGaConfig> for DominantNormalsConfig {
     /// The section of a FastGA configuration (a preset such as [`FastGaConfig::rgbd`]):
     /// its level, sample fraction, thresholds and cluster weight, with the default
     /// `min_samples` (10,000). The search, parallelism and unit tolerance are the
@@ -453,7 +411,7 @@ impl From<FastGaConfig> for FastGaSection {
     }
 }
 
-impl FastGaSection {
+impl DominantNormalsConfig {
     /// The detector configuration for a mesh of `normals` triangle normals: the sample
     /// fraction is raised so that at least `min_samples` normals are integrated.
     pub fn config_for(&self, normals: usize) -> FastGaConfig {
@@ -480,51 +438,6 @@ impl FastGaSection {
     }
 }
 
-/// Polygon post-processing parameters (Polylidar3D §8), in the polygons' length unit;
-/// each finite and ≥ 0.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-#[non_exhaustive]
-pub struct PostprocessSection {
-    /// α: simplification tolerance.
-    pub alpha: f64,
-    /// β_pos: outward buffer.
-    pub beta_pos: f64,
-    /// β_neg: inward buffer (positive erodes).
-    pub beta_neg: f64,
-    /// γ: polygons with a smaller area are dropped (unit²).
-    pub min_area: f64,
-    /// δ: holes with a smaller area are dropped (unit²).
-    pub min_hole_area: f64,
-}
-
-impl From<PostprocessConfig> for PostprocessSection {
-    /// The section of a post-processing configuration (a preset such as
-    /// [`PostprocessConfig::kitti`]); the buffers' corner style is the default one in the
-    /// pipeline.
-    fn from(c: PostprocessConfig) -> Self {
-        Self {
-            alpha: c.alpha,
-            beta_pos: c.beta_pos,
-            beta_neg: c.beta_neg,
-            min_area: c.min_area,
-            min_hole_area: c.min_hole_area,
-        }
-    }
-}
-
-impl PostprocessSection {
-    /// The post-processor configuration.
-    pub fn config(&self) -> PostprocessConfig {
-        PostprocessConfig::default()
-            .with_alpha(self.alpha)
-            .with_beta_pos(self.beta_pos)
-            .with_beta_neg(self.beta_neg)
-            .with_min_area(self.min_area)
-            .with_min_hole_area(self.min_hole_area)
-    }
-}
-
 impl Default for Config {
     fn default() -> Self {
         Self {
@@ -539,7 +452,7 @@ impl Default for Config {
             threads: 0,
             laplacian: None,
             bilateral: None,
-            fastga: FastGaSection::default(),
+            fastga: DominantNormalsConfig::default(),
             postprocess: None,
             refine: false,
             fill_missing: None,
@@ -628,19 +541,19 @@ impl Config {
     }
 
     /// Sets [`Config::fastga`].
-    pub fn with_fastga(mut self, fastga: FastGaSection) -> Self {
+    pub fn with_fastga(mut self, fastga: DominantNormalsConfig) -> Self {
         self.fastga = fastga;
         self
     }
 
     /// Sets [`Config::postprocess`] (`None`: polygons are returned as extracted).
-    pub fn with_postprocess(mut self, postprocess: Option<PostprocessSection>) -> Self {
+    pub fn with_postprocess(mut self, postprocess: Option<PostprocessConfig>) -> Self {
         self.postprocess = postprocess;
         self
     }
 
     /// Sets [`Config::fill_missing`] (`None`: missing returns stay missing).
-    pub fn with_fill_missing(mut self, fill_missing: Option<FillConfig>) -> Self {
+    pub fn with_fill_missing(mut self, fill_missing: Option<FillOptions>) -> Self {
         self.fill_missing = fill_missing;
         self
     }
@@ -733,23 +646,10 @@ impl Config {
         }
         self.fastga.validate()?;
         if let Some(p) = &self.postprocess {
-            p.config().validate()?;
+            p.validate()?;
         }
         if let Some(f) = &self.fill_missing {
-            if !(1..=8).contains(&f.min_neighbours) {
-                return bad(
-                    "fill_missing.min_neighbours",
-                    f.min_neighbours.to_string(),
-                    "must be 1–8",
-                );
-            }
-            if !(f.max_spread.is_finite() && f.max_spread >= 0.0) {
-                return bad(
-                    "fill_missing.max_spread",
-                    f.max_spread.to_string(),
-                    "must be a finite share ≥ 0",
-                );
-            }
+            f.validate().map_err(fill_error)?;
         }
         if let Some(scan) = &self.scan {
             scan.validate()?;
@@ -785,6 +685,26 @@ fn backend_available(field: &'static str, backend: SmoothingBackend) -> Result<(
 
 /// A smoothing filter's option error as a [`PolylidarError::Config`] naming the TOML
 /// field (`laplacian.kernel`, `bilateral.sigma_angle`, …).
+/// A fill option's error with the field named as in the TOML (`fill_missing.…`).
+fn fill_error(error: OpcError) -> PolylidarError {
+    match error {
+        OpcError::InvalidParameter {
+            name,
+            value,
+            expected,
+        } => PolylidarError::Config {
+            field: match name {
+                "min_neighbours" => "fill_missing.min_neighbours",
+                "max_spread" => "fill_missing.max_spread",
+                _ => "fill_missing",
+            },
+            value,
+            reason: expected,
+        },
+        other => PolylidarError::Organized(other),
+    }
+}
+
 fn smoothing_error(section: &'static str, error: SmoothError) -> PolylidarError {
     let field = |name: &str| -> &'static str {
         match (section, name) {
@@ -831,6 +751,8 @@ fn short_number(value: f64) -> String {
 
 #[cfg(test)]
 mod tests {
+    use polypost::BufferJoin;
+
     use super::*;
 
     /// The field a config error names (or the stage error's text), for every rule.
@@ -925,28 +847,26 @@ mod tests {
     #[test]
     fn fastga_sample_fraction_is_in_zero_to_one() {
         for sample_fraction in [0.0, -0.5, 1.5, f64::NAN] {
-            let config = Config::new().with_fastga(FastGaSection {
+            let config = Config::new().with_fastga(DominantNormalsConfig {
                 sample_fraction,
-                ..FastGaSection::default()
+                ..DominantNormalsConfig::default()
             });
             assert!(
                 refused(config).contains("sample_fraction"),
                 "{sample_fraction}"
             );
         }
-        let config = Config::new().with_fastga(FastGaSection {
+        let config = Config::new().with_fastga(DominantNormalsConfig {
             level: 99,
-            ..FastGaSection::default()
+            ..DominantNormalsConfig::default()
         });
         assert!(refused(config).contains("level 99"));
     }
 
     #[test]
     fn postprocess_lengths_are_checked_with_the_config() {
-        let config = Config::new().with_postprocess(Some(PostprocessSection {
-            beta_neg: -1.0,
-            ..PostprocessSection::default()
-        }));
+        let config =
+            Config::new().with_postprocess(Some(PostprocessConfig::default().with_beta_neg(-1.0)));
         assert!(refused(config).contains("beta_neg"));
     }
 
@@ -966,10 +886,10 @@ mod tests {
     /// and the error names the field.
     #[test]
     fn polylidar_new_refuses_a_bad_value_in_every_section() {
-        use crate::{BeamOutlierSection, FieldOfViewSection, UnorganizedSection};
-        let scan = |s: ScanSection| Config::new().with_scan(Some(s));
-        let unorganized = |u: UnorganizedSection| Config::new().with_unorganized(Some(u));
-        let fill = |f: FillConfig| Config::new().with_fill_missing(Some(f));
+        use crate::{BeamOutlierConfig, FieldOfViewConfig, UnorganizedConfig};
+        let scan = |s: ScanConfig| Config::new().with_scan(Some(s));
+        let unorganized = |u: UnorganizedConfig| Config::new().with_unorganized(Some(u));
+        let fill = |f: FillOptions| Config::new().with_fill_missing(Some(f));
         let cases = [
             (Config::new().with_alpha(-1.0), "alpha"),
             (Config::new().with_z_thresh(f64::NAN), "z_thresh"),
@@ -987,29 +907,30 @@ mod tests {
                 "bilateral.sigma_angle",
             ),
             (
-                fill(FillConfig::default().with_min_neighbours(9)),
+                fill(FillOptions::default().with_min_neighbours(9)),
                 "fill_missing.min_neighbours",
             ),
             (
-                fill(FillConfig::default().with_max_spread(f64::NAN)),
+                fill(FillOptions::default().with_max_spread(f64::NAN)),
                 "fill_missing.max_spread",
             ),
             (
-                Config::new().with_fastga(FastGaSection::default().with_value_threshold(300.0)),
+                Config::new()
+                    .with_fastga(DominantNormalsConfig::default().with_value_threshold(300.0)),
                 "value_threshold 300",
             ),
             (
                 Config::new()
-                    .with_postprocess(Some(PostprocessSection::default().with_min_hole_area(-1.0))),
+                    .with_postprocess(Some(PostprocessConfig::default().with_min_hole_area(-1.0))),
                 "min_hole_area",
             ),
             (
-                scan(ScanSection::default().with_keep_every(0)),
+                scan(ScanConfig::default().with_keep_every(0)),
                 "scan.keep_every",
             ),
             (
                 scan(
-                    ScanSection::default().with_field_of_view(Some(FieldOfViewSection::new(
+                    ScanConfig::default().with_field_of_view(Some(FieldOfViewConfig::new(
                         [-40.0, 40.0],
                         [-15.0, 95.0],
                     ))),
@@ -1017,17 +938,17 @@ mod tests {
                 "elevation",
             ),
             (
-                scan(ScanSection::default().with_beam_outliers(Some(
-                    BeamOutlierSection::default().with_min_deviation(-1.0),
+                scan(ScanConfig::default().with_beam_outliers(Some(
+                    BeamOutlierConfig::default().with_min_deviation(-1.0),
                 ))),
                 "min_deviation",
             ),
             (
-                unorganized(UnorganizedSection::default().with_k(2)),
+                unorganized(UnorganizedConfig::default().with_k(2)),
                 "unorganized.k",
             ),
             (
-                unorganized(UnorganizedSection::default().with_smoothing(1001.into())),
+                unorganized(UnorganizedConfig::default().with_smoothing(1001.into())),
                 "unorganized.smoothing",
             ),
         ];
@@ -1074,6 +995,41 @@ mod tests {
                 text.contains(&format!("at most {}", max_threads())),
                 "{threads}: {text}"
             );
+        }
+    }
+
+    /// The stage configurations the config holds as they are keep their TOML form: every
+    /// preset survives a round trip, the post-processing corner style is a key, and an
+    /// unknown key in a stage's table is refused.
+    #[test]
+    fn stage_sections_round_trip_through_toml() {
+        for preset in Preset::all() {
+            let config = preset.config();
+            let text = toml::to_string(&config).unwrap();
+            let back: Config = toml::from_str(&text).unwrap();
+            assert_eq!(back, config, "{preset}:\n{text}");
+        }
+        let config: Config = toml::from_str(
+            "[postprocess]\nalpha = 0.02\nbuffer_join = { round = { max_angle = 0.3 } }\n\
+             [fill_missing]\nmin_neighbours = 5\n\
+             [scan]\nbeam_outliers = { min_deviation = 0.25 }\n",
+        )
+        .unwrap();
+        let post = config.postprocess.unwrap();
+        assert_eq!(post.alpha, 0.02);
+        assert_eq!(post.buffer_join, BufferJoin::Round { max_angle: 0.3 });
+        let fill = config.fill_missing.unwrap();
+        assert_eq!((fill.min_neighbours, fill.max_spread), (5, 0.03));
+        let outliers = config.scan.and_then(|s| s.beam_outliers).unwrap();
+        assert_eq!((outliers.min_deviation, outliers.neighbours), (0.25, 2));
+        let bevel: Config = toml::from_str("[postprocess]\nbuffer_join = \"bevel\"").unwrap();
+        assert_eq!(bevel.postprocess.unwrap().buffer_join, BufferJoin::Bevel);
+        for text in [
+            "[fill_missing]\nneighbours = 5",
+            "[postprocess]\nbeta = 0.1",
+            "[scan]\nbeam_outliers = { gap = 1.0 }",
+        ] {
+            assert!(toml::from_str::<Config>(text).is_err(), "{text}");
         }
     }
 }

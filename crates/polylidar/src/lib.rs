@@ -58,11 +58,12 @@ pub mod tiles;
 pub mod unorganized;
 
 pub use config::{
-    BilateralConfig, Config, FastGaSection, FillConfig, LaplacianConfig, LaplacianIterations,
-    MAX_RANGE_EXPONENT, MAX_THREADS_PER_CORE, PostprocessSection, SmoothingBackend, max_threads,
+    BilateralConfig, Config, DominantNormalsConfig, LaplacianConfig, LaplacianIterations,
+    MAX_RANGE_EXPONENT, MAX_THREADS_PER_CORE, SmoothingBackend, max_threads,
 };
 pub use diagnostics::{Counts, Diagnostics, Timings};
 pub use error::PolylidarError;
+pub use fastga::FastGaConfig;
 pub use halfedge_mesh::{HalfEdgeMesh, MeshError};
 pub use mesh::PlanarMeshes;
 // Noise estimates and the trained models that turn them into smoothing passes: the
@@ -75,17 +76,21 @@ pub use mesh_smooth_gpu::{
     predict_laplacian_iterations,
 };
 pub use opc_mesh::{
-    DepthOptions, Intrinsics, OpcError, OrganizedPointCloud, OrganizedPointCloudView,
+    DepthOptions, FillOptions, Intrinsics, OpcError, OrganizedPointCloud, OrganizedPointCloudView,
 };
+// The stage configurations the facade's `Config` holds as they are (their `serde`
+// features give them their TOML form).
 pub use pipeline::{
     ExtractedPolygon, Extraction, Plane, PlaneFrame, Polylidar, PostprocessedPolygon,
 };
 /// Planar simplification and texturing (Ma et al. 2013), re-exported: see
 /// [`Extraction::planar_meshes`].
 pub use planar_mesh;
+pub use polypost::{BufferJoin, PostprocessConfig};
 pub use preset::{Preset, UnknownPreset};
-pub use scan::{BeamOutlierSection, BeamSource, FieldOfViewSection, PreparedScan, ScanSection};
-pub use unorganized::UnorganizedSection;
+pub use rotating_scan::BeamOutlierConfig;
+pub use scan::{BeamSource, FieldOfViewConfig, PreparedScan, ScanConfig};
+pub use unorganized::UnorganizedConfig;
 
 #[doc = include_str!("../README.md")]
 #[cfg(doctest)]

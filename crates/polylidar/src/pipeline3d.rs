@@ -83,7 +83,7 @@ impl Polylidar {
             });
             let mut filled = Vec::new();
             if let (Some(f), Some(c)) = (&config.fill_missing, &mut cloud) {
-                filled = timings.time("fill", || c.to_mut().fill_missing(&f.options()));
+                filled = timings.time("fill", || c.to_mut().fill_missing(f));
             }
             let mut laplacian_iterations = 0;
             if let (Some(l), Some(c)) = (&config.laplacian, &mut cloud) {
@@ -227,7 +227,7 @@ impl Polylidar {
         let Some(p) = self.config().postprocess else {
             return Ok(());
         };
-        let processor = PostProcessor::new(p.config())?;
+        let processor = PostProcessor::new(p)?;
         let polygons = &extraction.polygons;
         let output = extraction.diagnostics.timings.time("postprocess", || {
             let inputs: Vec<Polygon3> = polygons
@@ -265,7 +265,7 @@ impl Polylidar {
     }
 
     /// FastGA's dominant normals of `normals` (none for none), with the detector kept
-    /// between runs and the sample fraction raised as [`crate::FastGaSection::config_for`] says.
+    /// between runs and the sample fraction raised as [`crate::DominantNormalsConfig::config_for`] says.
     pub(crate) fn dominant_normals_of(
         &self,
         normals: &[[f64; 3]],

@@ -8,8 +8,8 @@ use fastga::FastGaConfig;
 use polypost::PostprocessConfig;
 
 use crate::{
-    BeamOutlierSection, BilateralConfig, Config, FastGaSection, FieldOfViewSection, FillConfig,
-    LaplacianConfig, LaplacianIterations, PostprocessSection, ScanSection,
+    BeamOutlierConfig, BilateralConfig, Config, DominantNormalsConfig, FieldOfViewConfig,
+    FillOptions, LaplacianConfig, LaplacianIterations, ScanConfig,
 };
 
 /// A named parameter set: the papers' (their tables) and ours (beyond them). Lengths are
@@ -64,7 +64,7 @@ pub enum Preset {
     Rooftop,
     /// `kitti` (Table 4, §9.2.2): min_triangles 3500, norm 0.97, lmax 1.25, hole vertices
     /// 6; post [`PostprocessConfig::kitti`] (α 0.2, β_neg 0.3, β_pos 0.02, γ 30, δ 0.5);
-    /// and the frame prepared as the paper does ([`ScanSection`]): beams from the firing
+    /// and the frame prepared as the paper does ([`ScanConfig`]): beams from the firing
     /// order, every second point, the front camera's view (azimuth ±40.7°, elevation
     /// −15.6° to 13.5°: KITTI's 1242 × 375 pixel images at a focal length of about 721
     /// pixels), beam outliers dropped (2 neighbours a side within 0.06 of one line, point
@@ -148,11 +148,10 @@ impl Preset {
     /// The preset's parameters (see each variant), lengths in metres.
     pub fn config(self) -> Config {
         let base = Config::default();
-        let post = |c: PostprocessConfig| Some(PostprocessSection::from(c));
         // Our presets beyond the papers: FastGA level 4, d_peak 0.15, 12 %, light
         // directions kept (weight 0.01; walls beside a road, façades beside a roof).
         let ours = |value_threshold| {
-            FastGaSection::from(
+            DominantNormalsConfig::from(
                 FastGaConfig::default()
                     .with_level(4)
                     .with_sample_fraction(0.12)
@@ -174,7 +173,7 @@ impl Preset {
                 lmax: 0.05,
                 z_thresh: 0.1,
                 min_hole_vertices: 10,
-                postprocess: post(PostprocessConfig::rgbd()),
+                postprocess: Some(PostprocessConfig::rgbd()),
                 ..base
             },
             Preset::Synpeb | Preset::SynpebAuto | Preset::RgbdAuto => {
@@ -199,7 +198,7 @@ impl Preset {
                     norm_thresh: 0.95,
                     min_hole_vertices: 50,
                     refine: adaptive,
-                    fill_missing: (self == Preset::RgbdAuto).then(FillConfig::default),
+                    fill_missing: (self == Preset::RgbdAuto).then(FillOptions::default),
                     ..base
                 }
             }
@@ -211,7 +210,7 @@ impl Preset {
                 lmax: 0.9,
                 min_hole_vertices: 8,
                 z_thresh: 0.2,
-                postprocess: post(PostprocessConfig::rooftop()),
+                postprocess: Some(PostprocessConfig::rooftop()),
                 ..base
             },
             Preset::Kitti => Config {
@@ -219,15 +218,15 @@ impl Preset {
                 norm_thresh: 0.97,
                 lmax: 1.25,
                 min_hole_vertices: 6,
-                postprocess: post(PostprocessConfig::kitti()),
-                scan: Some(ScanSection {
+                postprocess: Some(PostprocessConfig::kitti()),
+                scan: Some(ScanConfig {
                     keep_every: 2,
-                    field_of_view: Some(FieldOfViewSection {
+                    field_of_view: Some(FieldOfViewConfig {
                         azimuth_deg: [-40.7, 40.7],
                         elevation_deg: [-15.6, 13.5],
                     }),
-                    beam_outliers: Some(BeamOutlierSection::default()),
-                    ..ScanSection::default()
+                    beam_outliers: Some(BeamOutlierConfig::default()),
+                    ..ScanConfig::default()
                 }),
                 ..base
             },
@@ -251,10 +250,10 @@ impl Preset {
                 lmax: 1.5,
                 z_thresh: 0.15,
                 min_hole_vertices: 6,
-                scan: Some(ScanSection {
+                scan: Some(ScanConfig {
                     keep_every: 2,
                     range_image_columns: Some(0),
-                    ..ScanSection::default()
+                    ..ScanConfig::default()
                 }),
                 ..base
             },
@@ -267,7 +266,7 @@ impl Preset {
                     lmax: 0.1,
                     z_thresh: 0.08,
                     min_hole_vertices: 6,
-                    postprocess: post(if basement {
+                    postprocess: Some(if basement {
                         PostprocessConfig::mesh_basement()
                     } else {
                         PostprocessConfig::mesh_mainfloor()
@@ -285,7 +284,7 @@ impl Preset {
                 min_area: 0.015,
                 refine: true,
                 unorganized: Some(
-                    crate::UnorganizedSection::default()
+                    crate::UnorganizedConfig::default()
                         .with_smoothing(crate::LaplacianIterations::Auto),
                 ),
                 ..base
@@ -298,7 +297,7 @@ impl Preset {
                 norm_thresh: 0.94,
                 min_hole_vertices: 8,
                 refine: true,
-                unorganized: Some(crate::UnorganizedSection::default().with_k(16)),
+                unorganized: Some(crate::UnorganizedConfig::default().with_k(16)),
                 ..base
             },
         }
@@ -363,7 +362,7 @@ mod tests {
 
     #[test]
     fn presets_take_the_stage_presets() {
-        let post = |p: Preset| p.config().postprocess.map(|s| s.config());
+        let post = |p: Preset| p.config().postprocess;
         assert_eq!(post(Preset::Rgbd), Some(PostprocessConfig::rgbd()));
         assert_eq!(post(Preset::Rooftop), Some(PostprocessConfig::rooftop()));
         assert_eq!(post(Preset::Kitti), Some(PostprocessConfig::kitti()));

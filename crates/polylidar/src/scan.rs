@@ -34,58 +34,20 @@ pub enum BeamSource {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 #[non_exhaustive]
-pub struct FieldOfViewSection {
+pub struct FieldOfViewConfig {
     /// Azimuth from +x (forward), counter-clockwise: `[from, to]` within −180–180.
     pub azimuth_deg: [f64; 2],
     /// Elevation above the horizontal: `[lowest, highest]` within −90–90.
     pub elevation_deg: [f64; 2],
 }
 
-impl FieldOfViewSection {
+impl FieldOfViewConfig {
     /// The window `azimuth_deg` × `elevation_deg` (see the fields).
     pub fn new(azimuth_deg: [f64; 2], elevation_deg: [f64; 2]) -> Self {
         Self {
             azimuth_deg,
             elevation_deg,
         }
-    }
-}
-
-/// Beam-neighbour outlier removal ([`BeamOutlierConfig`]); lengths in the cloud's unit.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-#[non_exhaustive]
-pub struct BeamOutlierSection {
-    /// Neighbours tested on each side of a point along its beam.
-    pub neighbours: usize,
-    /// Largest gap between consecutive samples of one surface.
-    pub max_gap: f64,
-    /// Neighbours within this of the line through the two nearest are one flat surface.
-    pub flat_tolerance: f64,
-    /// A point farther than this from that line is dropped.
-    pub min_deviation: f64,
-}
-
-impl Default for BeamOutlierSection {
-    fn default() -> Self {
-        let o = BeamOutlierConfig::default();
-        Self {
-            neighbours: o.neighbours,
-            max_gap: o.max_gap,
-            flat_tolerance: o.flat_tolerance,
-            min_deviation: o.min_deviation,
-        }
-    }
-}
-
-impl BeamOutlierSection {
-    /// The outlier filter's configuration.
-    pub fn config(&self) -> BeamOutlierConfig {
-        BeamOutlierConfig::default()
-            .with_neighbours(self.neighbours)
-            .with_max_gap(self.max_gap)
-            .with_flat_tolerance(self.flat_tolerance)
-            .with_min_deviation(self.min_deviation)
     }
 }
 
@@ -96,7 +58,7 @@ impl BeamOutlierSection {
 /// [`Polylidar::extract_25d`] always takes the points as given.
 ///
 /// ```
-/// use polylidar::{Config, ScanSection};
+/// use polylidar::{Config, ScanConfig};
 /// let config: Config = toml::from_str(r#"
 ///     lmax = 1.25
 ///     [scan]
@@ -112,21 +74,21 @@ impl BeamOutlierSection {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 #[non_exhaustive]
-pub struct ScanSection {
+pub struct ScanConfig {
     /// Keep every n-th point in firing order (2: the paper's halving; 1 keeps all).
     pub keep_every: usize,
     /// How the beams are recovered.
     pub beams: BeamSource,
     /// Keep only this window (KITTI: what the front camera sees); absent keeps all.
-    pub field_of_view: Option<FieldOfViewSection>,
+    pub field_of_view: Option<FieldOfViewConfig>,
     /// Drop beam outliers; absent keeps them.
-    pub beam_outliers: Option<BeamOutlierSection>,
+    pub beam_outliers: Option<BeamOutlierConfig>,
     /// Rebuild the `beams × columns` range image (`0`: as many columns as the median beam
     /// has points) and run the organized 3D path on it instead of 2.5D triangulation.
     pub range_image_columns: Option<usize>,
 }
 
-impl Default for ScanSection {
+impl Default for ScanConfig {
     fn default() -> Self {
         Self {
             keep_every: 1,
@@ -138,22 +100,15 @@ impl Default for ScanSection {
     }
 }
 
-setters!(BeamOutlierSection {
-    with_neighbours => neighbours: usize,
-    with_max_gap => max_gap: f64,
-    with_flat_tolerance => flat_tolerance: f64,
-    with_min_deviation => min_deviation: f64,
-});
-
-setters!(ScanSection {
+setters!(ScanConfig {
     with_keep_every => keep_every: usize,
     with_beams => beams: BeamSource,
-    with_field_of_view => field_of_view: Option<FieldOfViewSection>,
-    with_beam_outliers => beam_outliers: Option<BeamOutlierSection>,
+    with_field_of_view => field_of_view: Option<FieldOfViewConfig>,
+    with_beam_outliers => beam_outliers: Option<BeamOutlierConfig>,
     with_range_image_columns => range_image_columns: Option<usize>,
 });
 
-/// The points of a scan that survive [`ScanSection`]'s thinning and outlier removal.
+/// The points of a scan that survive [`ScanConfig`]'s thinning and outlier removal.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PreparedScan {
     /// The beams, with only the kept points, in sweep order.
@@ -175,7 +130,7 @@ fn scan_error(e: rotating_scan::ScanError) -> PolylidarError {
     PolylidarError::Scan(e)
 }
 
-impl ScanSection {
+impl ScanConfig {
     /// Checks every field.
     ///
     /// # Errors
@@ -192,7 +147,7 @@ impl ScanSection {
         self.window()?;
         self.bins()?;
         if let Some(o) = &self.beam_outliers {
-            o.config().validate().map_err(scan_error)?;
+            o.validate().map_err(scan_error)?;
         }
         Ok(())
     }
@@ -220,13 +175,13 @@ impl ScanSection {
     /// Recovers the beams of `points`, thins them and drops the beam outliers.
     ///
     /// ```
-    /// use polylidar::ScanSection;
+    /// use polylidar::ScanConfig;
     /// // One beam over flat ground, 720 samples, one spurious return.
     /// let mut points: Vec<[f64; 3]> = (0..720)
     ///     .map(|k| { let a = (k as f64 * 0.5 + 0.2).to_radians(); [9.0 * a.cos(), 9.0 * a.sin(), -1.7] })
     ///     .collect();
     /// points[100][2] = -1.0;
-    /// let section = ScanSection::default()
+    /// let section = ScanConfig::default()
     ///     .with_keep_every(2)
     ///     .with_beam_outliers(Some(Default::default()));
     /// let prepared = section.prepare(&points)?;
@@ -260,9 +215,8 @@ impl ScanSection {
                 outliers: 0,
             });
         };
-        let mut drop =
-            rotating_scan::beam_outliers(points, &thinned_rings, &outlier_config.config())
-                .map_err(scan_error)?;
+        let mut drop = rotating_scan::beam_outliers(points, &thinned_rings, &outlier_config)
+            .map_err(scan_error)?;
         drop.sort_unstable();
         let rings = thinned_rings.retain(|i| drop.binary_search(&i).is_err());
         Ok(PreparedScan {
@@ -278,8 +232,8 @@ impl Polylidar {
     /// a KITTI `.bin`), as [`crate::Config::scan`] says (its defaults when absent):
     ///
     /// 1. stage `outliers`: beams recovered, every n-th point kept, the field of view
-    ///    cropped, beam outliers dropped ([`ScanSection::prepare`]);
-    /// 2. without [`ScanSection::range_image_columns`]: [`Self::extract_25d`] on the kept
+    ///    cropped, beam outliers dropped ([`ScanConfig::prepare`]);
+    /// 2. without [`ScanConfig::range_image_columns`]: [`Self::extract_25d`] on the kept
     ///    points (§9.2.2: the ground as a polygon, obstacles on it as holes); with it,
     ///    stage `range_image` rebuilds the organized image and
     ///    [`Self::extract_organized`] runs on it (every plane direction).
@@ -310,7 +264,7 @@ impl Polylidar {
     /// ```
     ///
     /// # Errors
-    /// [`ScanSection::prepare`]'s, then those of the pipeline run.
+    /// [`ScanConfig::prepare`]'s, then those of the pipeline run.
     pub fn extract_scan(&self, points: &[[f64; 3]]) -> Result<Extraction, PolylidarError> {
         let section = self.config().scan.unwrap_or_default();
         let mut timings = Timings::default();

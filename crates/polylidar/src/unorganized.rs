@@ -7,17 +7,17 @@
 //! vector and so finds only the planes that face it — the limit the Polylidar3D paper
 //! names (§10). This path lifts it:
 //!
-//! 1. optional voxel downsampling ([`UnorganizedSection::voxel`]); the points kept put
+//! 1. optional voxel downsampling ([`UnorganizedConfig::voxel`]); the points kept put
 //!    in Morton order ([`cloud_normals::spatial_order`]), so that the neighbourhood
 //!    passes below read memory mostly in order on a shuffled cloud (the returned mesh
 //!    and labels are in the input order);
 //! 2. normals: the caller's (a file's `normal_x/y/z`, `nx/ny/nz`), or PCA of the `k`
 //!    nearest neighbours ([`cloud_normals`]), oriented towards
-//!    [`UnorganizedSection::viewpoint`] or into the half-space of [`Config::up`];
+//!    [`UnorganizedConfig::viewpoint`] or into the half-space of [`Config::up`];
 //! 3. dominant directions: FastGA on the normals taken both ways (so that a wall whose
 //!    normals point either way is one direction), then again on the flat points that no
 //!    direction explains yet (tilted faces too small to peak beside the floor), up to
-//!    [`UnorganizedSection::rounds`] rounds;
+//!    [`UnorganizedConfig::rounds`] rounds;
 //! 4. each point to one direction: the nearest to its normal within `norm_thresh`, then
 //!    the one most of its `k` neighbours took when its normal accepts it or most of them
 //!    agree (a mode filter against noisy normals); per direction `d` its points, split
@@ -75,15 +75,15 @@ pub const SAME_DIRECTION_COS: f64 = 0.95;
 /// the coordinates.
 ///
 /// ```
-/// use polylidar::{Config, UnorganizedSection};
+/// use polylidar::{Config, UnorganizedConfig};
 /// let config: Config = toml::from_str("[unorganized]\nk = 12\nvoxel = 0.02").unwrap();
-/// let section = UnorganizedSection::default().with_k(12).with_voxel(0.02);
+/// let section = UnorganizedConfig::default().with_k(12).with_voxel(0.02);
 /// assert_eq!(config.unorganized, Some(section));
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 #[non_exhaustive]
-pub struct UnorganizedSection {
+pub struct UnorganizedConfig {
     /// Nearest neighbours (the point included) for PCA normals, for the pieces each
     /// direction's points split into, and for labelling the points next to a plane.
     /// At least 3. Default 12.
@@ -108,7 +108,7 @@ pub struct UnorganizedSection {
     pub smoothing: LaplacianIterations,
 }
 
-impl Default for UnorganizedSection {
+impl Default for UnorganizedConfig {
     fn default() -> Self {
         Self {
             k: 12,
@@ -120,7 +120,7 @@ impl Default for UnorganizedSection {
     }
 }
 
-setters!(UnorganizedSection {
+setters!(UnorganizedConfig {
     with_k => k: usize,
     with_voxel => voxel: f64,
     with_viewpoint => viewpoint: Option<[f64; 3]>,
@@ -128,7 +128,7 @@ setters!(UnorganizedSection {
     with_smoothing => smoothing: LaplacianIterations,
 });
 
-impl UnorganizedSection {
+impl UnorganizedConfig {
     /// Checks the ranges.
     ///
     /// # Errors
@@ -202,7 +202,7 @@ impl Polylidar {
     ///
     /// # Errors
     /// [`PolylidarError::Config`] for `normals` of another length than `points` or bad
-    /// [`UnorganizedSection`] values; [`PolylidarError::Normals`] for an empty cloud or a
+    /// [`UnorganizedConfig`] values; [`PolylidarError::Normals`] for an empty cloud or a
     /// non-finite point; and the errors of FastGA, segmentation and post-processing.
     pub fn extract_unorganized(
         &self,
@@ -227,7 +227,7 @@ impl Polylidar {
         &self,
         points: &[[f64; 3]],
         normals: Option<&[[f64; 3]]>,
-        section: &UnorganizedSection,
+        section: &UnorganizedConfig,
     ) -> Result<Extraction, PolylidarError> {
         let config = self.config();
         let mut timings = Timings::default();
@@ -539,7 +539,7 @@ fn working_normals(
     wpoints: &[[f64; 3]],
     work: &[u32],
     normals: Option<&[[f64; 3]]>,
-    section: &UnorganizedSection,
+    section: &UnorganizedConfig,
     up: [f64; 3],
 ) -> Result<Working, PolylidarError> {
     let knn = Neighbours::new(wpoints, section.k)?;
@@ -586,7 +586,7 @@ fn working_normals(
 /// normals.
 struct Working {
     knn: Neighbours,
-    /// Smoothing passes run ([`UnorganizedSection::smoothing`], predicted for `Auto`).
+    /// Smoothing passes run ([`UnorganizedConfig::smoothing`], predicted for `Auto`).
     passes: u32,
     /// The smoothed points; `None` without smoothing.
     smoothed: Option<Vec<[f64; 3]>>,
@@ -948,7 +948,7 @@ fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
 impl Config {
     /// Sets [`Config::unorganized`] (`None`: unorganized clouds take the 2.5D path unless
     /// asked for [`Polylidar::extract_unorganized`], which then uses the defaults).
-    pub fn with_unorganized(mut self, unorganized: Option<UnorganizedSection>) -> Self {
+    pub fn with_unorganized(mut self, unorganized: Option<UnorganizedConfig>) -> Self {
         self.unorganized = unorganized;
         self
     }

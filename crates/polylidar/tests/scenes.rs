@@ -3,7 +3,7 @@
 #![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
 
 use polylidar::{
-    BilateralConfig, Config, ExtractedPolygon, Extraction, FastGaSection, LaplacianConfig,
+    BilateralConfig, Config, DominantNormalsConfig, ExtractedPolygon, Extraction, LaplacianConfig,
     OrganizedPointCloud, Polylidar, PolylidarError,
 };
 use synthscan::{
@@ -16,7 +16,7 @@ use synthscan::{
 fn config() -> Config {
     Config::new()
         .with_fastga(
-            FastGaSection::default()
+            DominantNormalsConfig::default()
                 .with_level(5)
                 .with_value_threshold(3.0)
                 .with_min_cluster_weight(0.01),

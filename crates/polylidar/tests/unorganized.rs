@@ -4,7 +4,7 @@
 
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-use polylidar::{Config, Extraction, LaplacianIterations, Polylidar, UnorganizedSection};
+use polylidar::{Config, Extraction, LaplacianIterations, Polylidar, UnorganizedConfig};
 use rand::{RngExt, SeedableRng};
 use synthscan::{Polygon3d, Scene};
 
@@ -192,7 +192,7 @@ fn edge_points_go_to_the_plane_that_fits_them_best() {
     let (points, truth) = sample(&scene, 40_000, 0.003, 3);
     let config = room_config();
     let rim = config.z_thresh / 2.0;
-    let k = UnorganizedSection::default().k;
+    let k = UnorganizedConfig::default().k;
     let extraction = Polylidar::new(config)
         .unwrap()
         .extract_unorganized(&points, None)
@@ -291,7 +291,7 @@ fn normals_given_give_the_same_planes_as_normals_estimated() {
 fn voxel_downsampling_keeps_the_planes_and_labels_every_point() {
     let (points, truth) = sample(&box_room(), 60_000, 0.002, 5);
     let mut config = room_config();
-    config.unorganized = Some(UnorganizedSection::default().with_voxel(0.05));
+    config.unorganized = Some(UnorganizedConfig::default().with_voxel(0.05));
     let extraction = Polylidar::new(config)
         .unwrap()
         .extract_unorganized(&points, None)

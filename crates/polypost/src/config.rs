@@ -2,8 +2,15 @@
 
 use crate::PostError;
 
-/// How corners are drawn when a polygon is buffered (offset).
+/// How corners are drawn when a polygon is buffered (offset). In TOML (feature `serde`):
+/// `buffer_join = "bevel"`, `buffer_join = { miter = { min_angle = 0.4 } }` or
+/// `buffer_join = { round = { max_angle = 0.3 } }`.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(
+    feature = "serde",
+    serde(rename_all = "snake_case", deny_unknown_fields)
+)]
 pub enum BufferJoin {
     /// Arcs approximated by segments; `max_angle` (radians) bounds the angle each segment
     /// spans (`segment length / radius`). The offsetter clamps it to `[0.01π, 0.25π]`.
@@ -56,6 +63,8 @@ impl Default for BufferJoin {
 /// repairs invalid polygons. Units assume coordinates in metres; any other length unit
 /// works if every field uses it consistently (areas in that unit squared).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(default, deny_unknown_fields))]
 #[non_exhaustive]
 pub struct PostprocessConfig {
     /// α: simplification tolerance in metres: no vertex of the input is farther than

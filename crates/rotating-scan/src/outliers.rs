@@ -20,6 +20,8 @@ use crate::{Rings, ScanError};
 /// assert!(config.validate().is_ok());
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(default, deny_unknown_fields))]
 #[non_exhaustive]
 pub struct BeamOutlierConfig {
     /// Neighbours tested on each side of a point (≥ 1). With 1 the two neighbours are

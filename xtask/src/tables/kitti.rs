@@ -150,7 +150,7 @@ fn parameters(config: &Config) -> Table {
         },
     ]);
     let post = config.postprocess;
-    let cell = |f: fn(&polylidar::PostprocessSection) -> f64| {
+    let cell = |f: fn(&polylidar::PostprocessConfig) -> f64| {
         post.as_ref()
             .map_or_else(|| "off".to_owned(), |p| f(p).to_string())
     };

@@ -4,7 +4,7 @@
 use std::fmt::Write as _;
 
 use fastga::FastGa;
-use polylidar::{Config, FastGaSection, HalfEdgeMesh, Polylidar};
+use polylidar::{Config, DominantNormalsConfig, HalfEdgeMesh, Polylidar};
 
 use crate::bench::Ctx;
 use crate::chart::{Axis, Chart, PALETTE, Series, linear_ticks};
@@ -168,7 +168,7 @@ pub fn run(ctx: &Ctx) -> Result<Section> {
 
 /// The dominant normals FastGA finds on the mesh's triangle normals with the preset's
 /// FastGA section, strongest first.
-fn dominant_normals(mesh: &HalfEdgeMesh, section: &FastGaSection) -> Result<Vec<[f64; 3]>> {
+fn dominant_normals(mesh: &HalfEdgeMesh, section: &DominantNormalsConfig) -> Result<Vec<[f64; 3]>> {
     let normals = mesh
         .triangle_normals()
         .ok_or_else(|| msg("the mesh has no triangle normals"))?;
