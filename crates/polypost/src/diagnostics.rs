@@ -59,7 +59,7 @@ pub struct DroppedPolygon {
 /// Area counts are per output *part*: buffering can split one input into several parts,
 /// each filtered on its own.
 #[derive(Debug, Clone, PartialEq, Default)]
-pub struct Diagnostics {
+pub struct PostDiagnostics {
     /// Input polygons seen.
     pub input_polygons: u32,
     /// Polygons returned.
@@ -85,9 +85,9 @@ pub struct Diagnostics {
     pub dropped: Vec<DroppedPolygon>,
 }
 
-impl Diagnostics {
+impl PostDiagnostics {
     /// Adds `other`'s counts to these and appends its dropped list.
-    pub fn merge(&mut self, other: &Diagnostics) {
+    pub fn merge(&mut self, other: &PostDiagnostics) {
         self.input_polygons += other.input_polygons;
         self.output_polygons += other.output_polygons;
         self.repaired_inputs += other.repaired_inputs;

@@ -3,7 +3,7 @@
 /// Why a plane could not be fitted or built, or why a configuration was refused.
 ///
 /// Bad *polygons* are not errors: post-processing drops them and records the reason in
-/// [`Diagnostics`](crate::Diagnostics). Errors are reserved for inputs that make the
+/// [`PostDiagnostics`](crate::PostDiagnostics). Errors are reserved for inputs that make the
 /// whole call meaningless (a bad configuration, a plane that is not a plane).
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[non_exhaustive]

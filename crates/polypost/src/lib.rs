@@ -15,7 +15,7 @@
 //! then lifts the result back onto the plane. Inputs that are invalid are repaired first
 //! (non-zero winding region of the shell minus the union of the holes); every polygon
 //! returned passes `geo::Validation`, and inputs that cannot be repaired are reported in
-//! [`Diagnostics`] instead of returned. Buffering may split a polygon or merge holes, so
+//! [`PostDiagnostics`] instead of returned. Buffering may split a polygon or merge holes, so
 //! each input gives zero or more outputs, each tagged with its input's index.
 //!
 //! Plane fitting ([`fit_plane`]) is least squares by PCA of the covariance, with RMSE of
@@ -68,7 +68,7 @@ mod simplify;
 mod valid;
 
 pub use config::{BufferJoin, PostprocessConfig};
-pub use diagnostics::{Diagnostics, DropReason, DroppedPolygon};
+pub use diagnostics::{DropReason, DroppedPolygon, PostDiagnostics};
 pub use error::PostError;
 pub use fit::{PlaneFit, PlaneFitOptions, fit_plane, fit_plane_indexed, fit_plane_with_options};
 pub use plane::{Plane, PlaneFrame};

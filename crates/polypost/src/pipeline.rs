@@ -6,7 +6,7 @@ use geo::algorithm::buffer::{BufferStyle, LineJoin};
 use geo::{Area, BooleanOps, Buffer, ConvexHull, Coord, LineString, MultiPolygon, OpType, Polygon};
 
 use crate::config::{BufferJoin, PostprocessConfig};
-use crate::diagnostics::{Diagnostics, DropReason};
+use crate::diagnostics::{DropReason, PostDiagnostics};
 use crate::simplify::{SimplifyScratch, simplify_polygon};
 use crate::valid::{ValidityScratch, check_valid, fast_valid};
 
@@ -24,7 +24,7 @@ pub(crate) fn process_polygon(
     polygon: &Polygon<f64>,
     config: &PostprocessConfig,
     source: u32,
-    diag: &mut Diagnostics,
+    diag: &mut PostDiagnostics,
     scratch: &mut Scratch,
 ) -> Vec<Polygon<f64>> {
     diag.input_polygons += 1;
@@ -122,7 +122,10 @@ fn buffer_reach(join: BufferJoin) -> f64 {
 
 /// Checks coordinates, removes repeated consecutive vertices, closes rings, removes holes
 /// without area.
-fn sanitize(polygon: &Polygon<f64>, diag: &mut Diagnostics) -> Result<Polygon<f64>, DropReason> {
+fn sanitize(
+    polygon: &Polygon<f64>,
+    diag: &mut PostDiagnostics,
+) -> Result<Polygon<f64>, DropReason> {
     let finite = |ls: &LineString<f64>| ls.0.iter().all(|c| c.x.is_finite() && c.y.is_finite());
     if !finite(polygon.exterior()) || !polygon.interiors().iter().all(finite) {
         return Err(DropReason::NonFiniteCoordinate);
@@ -189,7 +192,7 @@ pub(crate) fn repair(polygon: &Polygon<f64>) -> MultiPolygon<f64> {
 fn simplify_parts(
     parts: Vec<Polygon<f64>>,
     alpha: f64,
-    diag: &mut Diagnostics,
+    diag: &mut PostDiagnostics,
     scratch: &mut Scratch,
 ) -> Vec<Polygon<f64>> {
     let mut out = Vec::with_capacity(parts.len());
@@ -216,7 +219,7 @@ fn buffer_style(distance: f64, join: BufferJoin) -> BufferStyle<f64> {
 
 /// Drops holes smaller than `min_hole_area` and orients the shell counter-clockwise and
 /// the holes clockwise.
-fn finish(part: Polygon<f64>, min_hole_area: f64, diag: &mut Diagnostics) -> Polygon<f64> {
+fn finish(part: Polygon<f64>, min_hole_area: f64, diag: &mut PostDiagnostics) -> Polygon<f64> {
     let (mut shell, holes) = part.into_inner();
     if signed_ring_area(&shell.0) < 0.0 {
         shell.0.reverse();

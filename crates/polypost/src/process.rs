@@ -5,7 +5,7 @@ use rayon::prelude::*;
 
 use crate::PostError;
 use crate::config::PostprocessConfig;
-use crate::diagnostics::{Diagnostics, DropReason};
+use crate::diagnostics::{DropReason, PostDiagnostics};
 use crate::pipeline::{Scratch, process_polygon};
 use crate::plane::{Plane, PlaneFrame, norm};
 use crate::polygon3::Polygon3;
@@ -36,7 +36,7 @@ pub struct Output2 {
     /// several (a multipolygon).
     pub polygons: Vec<SourcedPolygon2>,
     /// Counts and drop reasons.
-    pub diagnostics: Diagnostics,
+    pub diagnostics: PostDiagnostics,
 }
 
 /// Result of 3D post-processing: polygons ordered by `source`, and what happened.
@@ -46,7 +46,7 @@ pub struct Output3 {
     /// several (a multipolygon).
     pub polygons: Vec<SourcedPolygon3>,
     /// Counts and drop reasons.
-    pub diagnostics: Diagnostics,
+    pub diagnostics: PostDiagnostics,
 }
 
 impl Output2 {
@@ -71,7 +71,7 @@ impl Output3 {
 ///
 /// Every polygon returned is valid for `geo::Validation` (in its plane's 2D frame for 3D
 /// input). Inputs that are invalid are repaired first; inputs that cannot be made valid are
-/// dropped and reported in [`Diagnostics`], never returned.
+/// dropped and reported in [`PostDiagnostics`], never returned.
 ///
 /// The `*_many` methods process polygons in parallel on the current rayon thread pool
 /// (run them inside `ThreadPool::install` to choose the thread count); the result is
@@ -99,7 +99,7 @@ impl PostProcessor {
     /// Post-processes one 2D polygon (coordinates in metres, e.g. from the 2D pipeline);
     /// the outputs have `source` 0.
     pub fn process_2d(&self, polygon: &Polygon<f64>) -> Output2 {
-        let mut diagnostics = Diagnostics::default();
+        let mut diagnostics = PostDiagnostics::default();
         let polygons = self.one_2d(polygon, 0, &mut diagnostics, &mut Scratch::default());
         Output2 {
             polygons,
@@ -113,11 +113,11 @@ impl PostProcessor {
     /// [`PostError::TooManyPolygons`] for more than `u32::MAX` inputs.
     pub fn process_many_2d(&self, polygons: &[Polygon<f64>]) -> Result<Output2, PostError> {
         check_count(polygons.len())?;
-        let per_input: Vec<(Vec<SourcedPolygon2>, Diagnostics)> = polygons
+        let per_input: Vec<(Vec<SourcedPolygon2>, PostDiagnostics)> = polygons
             .par_iter()
             .enumerate()
             .map_init(Scratch::default, |scratch, (i, p)| {
-                let mut d = Diagnostics::default();
+                let mut d = PostDiagnostics::default();
                 let out = self.one_2d(p, i as u32, &mut d, scratch);
                 (out, d)
             })
@@ -134,7 +134,7 @@ impl PostProcessor {
     /// onto the plane's [`PlaneFrame`], processed in 2D and lifted back onto the plane.
     /// The outputs have `source` 0.
     pub fn process_3d(&self, polygon: &Polygon3, plane: &Plane) -> Output3 {
-        let mut diagnostics = Diagnostics::default();
+        let mut diagnostics = PostDiagnostics::default();
         let polygons = self.one_3d(polygon, plane, 0, &mut diagnostics, &mut Scratch::default());
         Output3 {
             polygons,
@@ -160,12 +160,12 @@ impl PostProcessor {
             });
         }
         check_count(polygons.len())?;
-        let per_input: Vec<(Vec<SourcedPolygon3>, Diagnostics)> = polygons
+        let per_input: Vec<(Vec<SourcedPolygon3>, PostDiagnostics)> = polygons
             .par_iter()
             .zip(planes.par_iter())
             .enumerate()
             .map_init(Scratch::default, |scratch, (i, (p, plane))| {
-                let mut d = Diagnostics::default();
+                let mut d = PostDiagnostics::default();
                 let out = self.one_3d(p, plane, i as u32, &mut d, scratch);
                 (out, d)
             })
@@ -182,7 +182,7 @@ impl PostProcessor {
         &self,
         polygon: &Polygon<f64>,
         source: u32,
-        diag: &mut Diagnostics,
+        diag: &mut PostDiagnostics,
         scratch: &mut Scratch,
     ) -> Vec<SourcedPolygon2> {
         process_polygon(polygon, &self.config, source, diag, scratch)
@@ -196,7 +196,7 @@ impl PostProcessor {
         polygon: &Polygon3,
         plane: &Plane,
         source: u32,
-        diag: &mut Diagnostics,
+        diag: &mut PostDiagnostics,
         scratch: &mut Scratch,
     ) -> Vec<SourcedPolygon3> {
         if !plane_is_usable(plane) {

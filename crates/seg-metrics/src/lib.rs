@@ -130,7 +130,7 @@ pub use evaluate::{
     EvaluateOptions, Evaluation, MIN_RMSE_POINTS, Match, PredictedClass, PredictedRegion,
     TruthClass, TruthRegion, evaluate,
 };
-pub use plane::{PlaneFit, fit_plane, fit_plane_rmse};
+pub use plane::{LeastSquaresPlane, fit_plane, fit_plane_rmse};
 
 /// The README's example, compiled and run as a doctest.
 #[doc = include_str!("../README.md")]

@@ -9,7 +9,7 @@
 /// The plane passes through `centroid` with unit `normal` and minimises the sum of squared
 /// orthogonal distances of the points to it.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct PlaneFit {
+pub struct LeastSquaresPlane {
     /// Unit normal: the eigenvector of the smallest eigenvalue of the scatter matrix. Its
     /// sign is arbitrary; for fewer than three points, or collinear points, any unit vector
     /// orthogonal to the points' span may come back.
@@ -43,7 +43,7 @@ pub struct PlaneFit {
 /// assert!((fit.normal[2].abs() - 1.0).abs() < 1e-12);
 /// assert_eq!(fit.centroid, [0.5, 0.5, 1.0]);
 /// ```
-pub fn fit_plane(points: &[[f64; 3]]) -> Option<PlaneFit> {
+pub fn fit_plane(points: &[[f64; 3]]) -> Option<LeastSquaresPlane> {
     if points.is_empty() || !points.iter().all(is_finite) {
         return None;
     }
@@ -57,7 +57,7 @@ pub fn fit_plane(points: &[[f64; 3]]) -> Option<PlaneFit> {
     let centroid = sum.map(|s| s / n);
     let scatter = Scatter::of(points, &centroid);
     let (lambda, normal) = smallest_eigen(&scatter.matrix());
-    Some(PlaneFit {
+    Some(LeastSquaresPlane {
         normal,
         centroid,
         rmse: (lambda.max(0.0) / n).sqrt(),
