@@ -19,11 +19,13 @@
 mod eigen;
 mod frame;
 mod plane;
+mod polygon;
 pub mod vec3;
 
 pub use eigen::{Eigen3, symmetric_eigen, symmetric_eigenvalues};
 pub use frame::PlaneFrame;
 pub use plane::Plane;
+pub use polygon::{Polygon3, PolygonMetrics, ring_area, ring_length};
 
 /// Why a [`Plane`] could not be built.
 #[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]

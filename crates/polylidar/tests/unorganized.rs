@@ -6,7 +6,7 @@
 
 use polylidar::{Config, Extraction, LaplacianIterations, Polylidar, UnorganizedConfig};
 use rand::{RngExt, SeedableRng};
-use synthscan::{Polygon3d, Scene};
+use synthscan::{Polygon3, Scene};
 
 /// A 4 × 3 × 2.5 m box room; the wall `y = 0` has a 0.9 × 1.7 m door (a hole: it stops
 /// 0.3 m above the floor). Labels: 0 floor, 1 ceiling, 2 wall y = 0 (door), 3 wall
@@ -15,7 +15,7 @@ fn box_room() -> Scene {
     let (x, y, z) = (4.0, 3.0, 2.5);
     let mut scene = Scene::new();
     let rect =
-        |a: [f64; 3], b: [f64; 3], c: [f64; 3], d: [f64; 3]| Polygon3d::new(vec![a, b, c, d]);
+        |a: [f64; 3], b: [f64; 3], c: [f64; 3], d: [f64; 3]| Polygon3::from_shell(vec![a, b, c, d]);
     // Each ring counter-clockwise seen from inside the room.
     let faces = [
         rect([0.0, 0.0, 0.0], [x, 0.0, 0.0], [x, y, 0.0], [0.0, y, 0.0]),
@@ -142,20 +142,20 @@ fn the_directions_and_labels_do_not_depend_on_the_thread_count() {
 fn a_gabled_roof_is_two_sloped_planes() {
     // Ridge along x at z = 5 over y = 0; 45° slopes down to z = 3 at y = ±2; ground z = 0.
     let mut scene = Scene::new();
-    let ground = Polygon3d::new(vec![
+    let ground = Polygon3::from_shell(vec![
         [-6.0, -6.0, 0.0],
         [16.0, -6.0, 0.0],
         [16.0, 6.0, 0.0],
         [-6.0, 6.0, 0.0],
     ]);
     scene.add_polygon(0, ground).unwrap();
-    let north = Polygon3d::new(vec![
+    let north = Polygon3::from_shell(vec![
         [0.0, 0.0, 5.0],
         [0.0, -2.0, 3.0],
         [10.0, -2.0, 3.0],
         [10.0, 0.0, 5.0],
     ]);
-    let south = Polygon3d::new(vec![
+    let south = Polygon3::from_shell(vec![
         [0.0, 0.0, 5.0],
         [10.0, 0.0, 5.0],
         [10.0, 2.0, 3.0],

@@ -62,7 +62,6 @@ mod error;
 mod fit;
 mod pipeline;
 mod plane;
-mod polygon3;
 mod process;
 mod simplify;
 mod valid;
@@ -72,7 +71,7 @@ pub use diagnostics::{DropReason, DroppedPolygon, PostDiagnostics};
 pub use error::PostError;
 pub use fit::{PlaneFit, PlaneFitOptions, fit_plane, fit_plane_indexed, fit_plane_with_options};
 pub use plane::{Plane, PlaneFrame};
-pub use polygon3::{Polygon3, PolygonMetrics, ring_area, ring_length};
+pub use plane_geom::{Polygon3, PolygonMetrics, ring_area, ring_length};
 pub use process::{Output2, Output3, PostProcessor, SourcedPolygon2, SourcedPolygon3};
 
 /// Re-export of the `geo-types` types used in the 2D API.

@@ -8,7 +8,7 @@ use crate::config::PostprocessConfig;
 use crate::diagnostics::{DropReason, PostDiagnostics};
 use crate::pipeline::{Scratch, process_polygon};
 use crate::plane::{Plane, PlaneFrame, norm};
-use crate::polygon3::Polygon3;
+use plane_geom::Polygon3;
 
 /// A processed 2D polygon and the input it came from.
 #[derive(Debug, Clone, PartialEq)]

@@ -5,10 +5,10 @@ use rand::rngs::Xoshiro256PlusPlus;
 use rand::{RngExt, SeedableRng};
 
 use crate::error::{SceneError, non_negative, positive};
-use crate::face::Polygon3d;
 use crate::scene::Scene;
 use crate::solid::Solid;
 use crate::vec3::{V3, add, cross, dot};
+use plane_geom::Polygon3;
 
 /// The floor's label in every builder scene that has a floor.
 pub const FLOOR_LABEL: i32 = 0;
@@ -262,8 +262,8 @@ pub(crate) fn add_shell(
     holes: Vec<Vec<V3>>,
 ) -> Result<(), SceneError> {
     let [w, d, h] = size;
-    let floor = Polygon3d {
-        outer: floor_ring([0.0, w, 0.0, d]),
+    let floor = Polygon3 {
+        shell: floor_ring([0.0, w, 0.0, d]),
         holes,
     };
     scene.add_polygon(FLOOR_LABEL, floor)?;
@@ -275,13 +275,13 @@ pub(crate) fn add_shell(
     ];
     for ring in walls {
         let label = scene.next_label();
-        scene.add_polygon(label, Polygon3d::new(ring))?;
+        scene.add_polygon(label, Polygon3::from_shell(ring))?;
     }
     if ceiling {
         let label = scene.next_label();
         scene.add_polygon(
             label,
-            Polygon3d::new(rect([0.0, 0.0, h], [0.0, d, 0.0], [w, 0.0, 0.0])),
+            Polygon3::from_shell(rect([0.0, 0.0, h], [0.0, d, 0.0], [w, 0.0, 0.0])),
         )?;
     }
     Ok(())
@@ -412,7 +412,7 @@ impl Scene {
                     };
                     if vertical {
                         let label = scene.next_label();
-                        scene.add_polygon(label, Polygon3d::new(ring))?;
+                        scene.add_polygon(label, Polygon3::from_shell(ring))?;
                     }
                 }
             } else {
@@ -446,13 +446,15 @@ impl Scene {
         let (len, top) = (n as f64 * d, n as f64 * h);
         let mut scene = Scene::new();
         if m > 0.0 {
-            let floor = Polygon3d::new(floor_ring([-m, len + m, -m, w + m]))
+            let floor = Polygon3::from_shell(floor_ring([-m, len + m, -m, w + m]))
                 .with_hole(floor_ring([0.0, len, 0.0, w]));
             scene.add_polygon(FLOOR_LABEL, floor)?;
         }
         let add = |scene: &mut Scene, ring: Vec<V3>| -> Result<(), SceneError> {
             let label = scene.next_label();
-            scene.add_polygon(label, Polygon3d::new(ring)).map(|_| ())
+            scene
+                .add_polygon(label, Polygon3::from_shell(ring))
+                .map(|_| ())
         };
         for i in 0..n {
             let (x, z) = (i as f64 * d, i as f64 * h);
@@ -521,8 +523,8 @@ impl Scene {
         let mut scene = Scene::new();
         if m > 0.0 {
             let ymax = solids.len() as f64 * (w + gap) - gap;
-            let floor = Polygon3d {
-                outer: floor_ring([-m, run + m, -m, ymax + m]),
+            let floor = Polygon3 {
+                shell: floor_ring([-m, run + m, -m, ymax + m]),
                 holes: solids.iter().filter_map(Solid::footprint).collect(),
             };
             scene.add_polygon(FLOOR_LABEL, floor)?;

@@ -1,37 +1,9 @@
 //! Planar polygons with holes and their ground-truth plane label.
 
+use plane_geom::Polygon3;
+
 use crate::error::SceneError;
 use crate::vec3::{V2, V3, add, cross, dot, norm, normalize, orient2, ring_area, scale, sub};
-
-/// A planar polygon in 3D: an outer ring and zero or more holes, vertices in metres.
-///
-/// Rings are implicitly closed (do not repeat the first vertex). The order of the outer
-/// ring fixes the face's *front side*: seen from the front, the outer ring runs
-/// counter-clockwise (right-hand rule: the normal points to the viewer). Holes may be given
-/// in either order.
-#[derive(Debug, Clone, PartialEq, Default)]
-pub struct Polygon3d {
-    /// Outer ring.
-    pub outer: Vec<[f64; 3]>,
-    /// Holes, each a ring strictly inside the outer ring and outside the other holes.
-    pub holes: Vec<Vec<[f64; 3]>>,
-}
-
-impl Polygon3d {
-    /// A polygon without holes.
-    pub fn new(outer: Vec<[f64; 3]>) -> Self {
-        Self {
-            outer,
-            holes: Vec::new(),
-        }
-    }
-
-    /// Adds a hole.
-    pub fn with_hole(mut self, hole: Vec<[f64; 3]>) -> Self {
-        self.holes.push(hole);
-        self
-    }
-}
 
 /// A face of a scene: a validated planar polygon (convex or not, possibly with holes) and
 /// the label of the ground-truth plane it lies on.
@@ -42,7 +14,7 @@ impl Polygon3d {
 #[derive(Debug, Clone, PartialEq)]
 pub struct Face {
     label: i32,
-    polygon: Polygon3d,
+    polygon: Polygon3,
     normal: V3,
     offset: f64,
     origin: V3,
@@ -63,11 +35,11 @@ impl Face {
     /// Negative label, non-finite coordinates, fewer than three usable vertices in a ring,
     /// a degenerate outer ring, vertices off the plane by more than `1e-9 · (1 + extent)`
     /// metres, rings that intersect or touch, or holes outside the outer ring.
-    pub fn new(label: i32, polygon: Polygon3d) -> Result<Self, SceneError> {
+    pub fn new(label: i32, polygon: Polygon3) -> Result<Self, SceneError> {
         if label < 0 {
             return Err(SceneError::NegativeLabel { label });
         }
-        let rings3: Vec<&[V3]> = std::iter::once(polygon.outer.as_slice())
+        let rings3: Vec<&[V3]> = std::iter::once(polygon.shell.as_slice())
             .chain(polygon.holes.iter().map(Vec::as_slice))
             .collect();
         for (ring, pts) in rings3.iter().enumerate() {
@@ -75,16 +47,16 @@ impl Face {
                 return Err(SceneError::NonFinite { ring, vertex });
             }
         }
-        if polygon.outer.len() < 3 {
+        if polygon.shell.len() < 3 {
             return Err(SceneError::TooFewVertices {
                 ring: 0,
-                count: polygon.outer.len(),
+                count: polygon.shell.len(),
             });
         }
-        let normal = normalize(newell(&polygon.outer)).ok_or(SceneError::Degenerate)?;
-        let origin = polygon.outer[0];
+        let normal = normalize(newell(&polygon.shell)).ok_or(SceneError::Degenerate)?;
+        let origin = polygon.shell[0];
         let u = polygon
-            .outer
+            .shell
             .iter()
             .find_map(|p| {
                 let d = sub(*p, origin);
@@ -93,11 +65,11 @@ impl Face {
             .ok_or(SceneError::Degenerate)?;
         let v = cross(normal, u);
 
-        let (bbox_min, bbox_max) = bbox(&polygon.outer);
+        let (bbox_min, bbox_max) = bbox(&polygon.shell);
         let extent = norm(sub(bbox_max, bbox_min));
         let tolerance = 1e-9 * (1.0 + extent);
         let offset =
-            polygon.outer.iter().map(|p| dot(normal, *p)).sum::<f64>() / polygon.outer.len() as f64;
+            polygon.shell.iter().map(|p| dot(normal, *p)).sum::<f64>() / polygon.shell.len() as f64;
         for (ring, pts) in rings3.iter().enumerate() {
             for (vertex, p) in pts.iter().enumerate() {
                 let distance = (dot(normal, *p) - offset).abs();
@@ -173,11 +145,8 @@ impl Face {
             })
             .collect();
         let mut clean3 = clean3.into_iter();
-        let outer = clean3.next().unwrap_or_default();
-        let polygon = Polygon3d {
-            outer,
-            holes: clean3.collect(),
-        };
+        let shell = clean3.next().unwrap_or_default();
+        let polygon = Polygon3::new(shell, clean3.collect());
         Ok(Self {
             label,
             polygon,
@@ -200,7 +169,7 @@ impl Face {
     }
 
     /// The cleaned polygon (outer ring counter-clockwise, holes clockwise seen from the front).
-    pub fn polygon(&self) -> &Polygon3d {
+    pub fn polygon(&self) -> &Polygon3 {
         &self.polygon
     }
 
@@ -423,7 +392,7 @@ mod tests {
             [2.0, 2.0, 2.0],
             [1.0, 2.0, 2.0],
         ];
-        let f = Face::new(3, Polygon3d::new(square(2.0, 4.0)).with_hole(hole))?;
+        let f = Face::new(3, Polygon3::from_shell(square(2.0, 4.0)).with_hole(hole))?;
         assert!((f.area() - 15.0).abs() < 1e-12);
         assert!((f.normal()[2] - 1.0).abs() < 1e-15);
         assert!((f.offset() - 2.0).abs() < 1e-15);
@@ -437,7 +406,7 @@ mod tests {
     fn reversed_outer_flips_normal() -> Result<(), SceneError> {
         let mut r = square(0.0, 1.0);
         r.reverse();
-        let f = Face::new(0, Polygon3d::new(r))?;
+        let f = Face::new(0, Polygon3::from_shell(r))?;
         assert!((f.normal()[2] + 1.0).abs() < 1e-15);
         Ok(())
     }
@@ -452,8 +421,8 @@ mod tests {
             [1.0, 1.0, 0.0],
             [0.0, 1.0, 0.0],
         ];
-        let f = Face::new(0, Polygon3d::new(r))?;
-        assert_eq!(f.polygon().outer.len(), 4);
+        let f = Face::new(0, Polygon3::from_shell(r))?;
+        assert_eq!(f.polygon().shell.len(), 4);
         Ok(())
     }
 
@@ -467,7 +436,7 @@ mod tests {
             [0.0, 2.0, 0.0],
         ];
         assert!(matches!(
-            Face::new(0, Polygon3d::new(bowtie)),
+            Face::new(0, Polygon3::from_shell(bowtie)),
             Err(SceneError::RingsIntersect { .. })
         ));
         let bent = vec![
@@ -477,21 +446,21 @@ mod tests {
             [0.0, 1.0, 0.0],
         ];
         assert!(matches!(
-            Face::new(0, Polygon3d::new(bent)),
+            Face::new(0, Polygon3::from_shell(bent)),
             Err(SceneError::NonPlanar { .. })
         ));
         let line = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [2.0, 0.0, 0.0]];
-        assert!(Face::new(0, Polygon3d::new(line)).is_err());
+        assert!(Face::new(0, Polygon3::from_shell(line)).is_err());
         let nan = vec![[0.0, 0.0, 0.0], [f64::NAN, 0.0, 0.0], [0.0, 1.0, 0.0]];
         assert!(matches!(
-            Face::new(0, Polygon3d::new(nan)),
+            Face::new(0, Polygon3::from_shell(nan)),
             Err(SceneError::NonFinite { ring: 0, vertex: 1 })
         ));
         assert!(matches!(
-            Face::new(-2, Polygon3d::new(square(0.0, 1.0))),
+            Face::new(-2, Polygon3::from_shell(square(0.0, 1.0))),
             Err(SceneError::NegativeLabel { label: -2 })
         ));
-        let outside = Polygon3d::new(square(0.0, 1.0)).with_hole(vec![
+        let outside = Polygon3::from_shell(square(0.0, 1.0)).with_hole(vec![
             [2.0, 2.0, 0.0],
             [3.0, 2.0, 0.0],
             [3.0, 3.0, 0.0],
@@ -500,7 +469,7 @@ mod tests {
             Face::new(0, outside),
             Err(SceneError::HoleOutside { hole: 0 })
         ));
-        let touching = Polygon3d::new(square(0.0, 2.0)).with_hole(vec![
+        let touching = Polygon3::from_shell(square(0.0, 2.0)).with_hole(vec![
             [0.0, 0.5, 0.0],
             [1.0, 0.5, 0.0],
             [1.0, 1.0, 0.0],

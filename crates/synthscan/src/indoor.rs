@@ -6,11 +6,11 @@ use rand::{RngExt, SeedableRng};
 use crate::builders::add_shell;
 use crate::depth::{DepthCamera, DepthCameraKind};
 use crate::error::{SceneError, non_negative, positive};
-use crate::face::Polygon3d;
 use crate::scene::Scene;
 use crate::sensor::Pose;
 use crate::solid::Solid;
 use crate::vec3::{V3, add, cross, dot, norm, scale};
+use plane_geom::Polygon3;
 
 /// A room with furniture and a camera pose looking into it, for RGB-D benchmarks
 /// ([`Scene::indoor`], [`rgbd_like`]). Metres and degrees; z up, room
@@ -491,7 +491,7 @@ impl Scene {
                     label
                 }
             };
-            scene.add_polygon(label, Polygon3d::new(ring))?;
+            scene.add_polygon(label, Polygon3::from_shell(ring))?;
         }
         Ok((scene, pose))
     }

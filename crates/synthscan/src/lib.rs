@@ -83,9 +83,11 @@ pub use builders::{
 pub use city::{Building, City, CityConfig, CityError, CityTile, RoofKind, RoofPlane};
 pub use depth::{DepthCamera, DepthCameraKind, DepthModel, MAX_EDGE_BAND};
 pub use error::SceneError;
-pub use face::{Face, Polygon3d};
+pub use face::Face;
 pub use indoor::{IndoorConfig, rgbd_like};
 pub use mesh::{LabelledMesh, MAX_MESH_TRIANGLES, PointSample};
+/// The scenes' polygons are the workspace's 3D polygon with holes.
+pub use plane_geom::Polygon3;
 pub use scan::{Noise, ScanResult};
 pub use scene::{GroundTruthPlane, Scene};
 pub use sensor::{MAX_PIXELS, PinholeCamera, Pose, Sensor, SphericalSensor};

@@ -1,8 +1,9 @@
 //! A scene: labelled planar faces, and its ground truth.
 
 use crate::error::SceneError;
-use crate::face::{Face, Polygon3d};
+use crate::face::Face;
 use crate::solid::Solid;
+use plane_geom::Polygon3;
 
 /// A set of labelled planar faces in a right-handed world frame (metres).
 ///
@@ -24,7 +25,7 @@ pub struct GroundTruthPlane {
     /// Offset `d` in metres: points `p` on the plane satisfy `normal · p = d`.
     pub offset: f64,
     /// The faces with this label (outer rings counter-clockwise seen from the front).
-    pub polygons: Vec<Polygon3d>,
+    pub polygons: Vec<Polygon3>,
 }
 
 impl Scene {
@@ -69,7 +70,7 @@ impl Scene {
     ///
     /// # Errors
     /// As [`Face::new`] and [`Scene::add_face`].
-    pub fn add_polygon(&mut self, label: i32, polygon: Polygon3d) -> Result<usize, SceneError> {
+    pub fn add_polygon(&mut self, label: i32, polygon: Polygon3) -> Result<usize, SceneError> {
         self.add_face(Face::new(label, polygon)?)
     }
 
@@ -95,7 +96,7 @@ impl Scene {
                 continue;
             }
             let label = self.next_label();
-            self.add_polygon(label, Polygon3d::new(ring))?;
+            self.add_polygon(label, Polygon3::from_shell(ring))?;
             labels.push(label);
         }
         Ok(labels)
@@ -152,17 +153,17 @@ mod tests {
         ];
         let b: Vec<[f64; 3]> = a.iter().map(|p| [p[0] + 2.0, p[1], p[2]]).collect();
         let c: Vec<[f64; 3]> = a.iter().map(|p| [p[0], p[1], p[2] + 0.5]).collect();
-        s.add_polygon(0, Polygon3d::new(a))?;
-        s.add_polygon(0, Polygon3d::new(b))?;
+        s.add_polygon(0, Polygon3::from_shell(a))?;
+        s.add_polygon(0, Polygon3::from_shell(b))?;
         assert!(matches!(
-            s.add_polygon(0, Polygon3d::new(c.clone())),
+            s.add_polygon(0, Polygon3::from_shell(c.clone())),
             Err(SceneError::LabelPlaneMismatch {
                 face: 2,
                 label: 0,
                 ..
             })
         ));
-        s.add_polygon(1, Polygon3d::new(c))?;
+        s.add_polygon(1, Polygon3::from_shell(c))?;
         let gt = s.ground_truth();
         assert_eq!(gt.len(), 2);
         assert_eq!(gt[0].polygons.len(), 2);

@@ -89,7 +89,7 @@ fn stairs_planes() -> Result<(), SceneError> {
     let sides = &gt[gt.len() - 2..];
     assert!(close(sides[0].normal, [0.0, -1.0, 0.0]));
     assert!(close(sides[1].normal, [0.0, 1.0, 0.0]));
-    assert_eq!(sides[0].polygons[0].outer.len(), 2 * c.steps + 2);
+    assert_eq!(sides[0].polygons[0].shell.len(), 2 * c.steps + 2);
     let mut no_margin = c;
     no_margin.floor_margin = 0.0;
     let no_floor = Scene::stairs(&no_margin)?;

@@ -5,8 +5,7 @@ use std::collections::HashMap;
 
 use proptest::prelude::*;
 use synthscan::{
-    Face, Polygon3d, RampsConfig, RandomPolyhedraConfig, RoomConfig, Scene, SceneError,
-    StairsConfig,
+    Face, Polygon3, RampsConfig, RandomPolyhedraConfig, RoomConfig, Scene, SceneError, StairsConfig,
 };
 
 fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
@@ -27,7 +26,7 @@ fn len(a: [f64; 3]) -> f64 {
 }
 
 /// Polygon area from the 3D rings alone (Newell), independent of the face's own frame.
-fn polygon_area(p: &Polygon3d) -> f64 {
+fn polygon_area(p: &Polygon3) -> f64 {
     let ring_area = |r: &[[f64; 3]]| {
         let mut n = [0.0; 3];
         for i in 0..r.len() {
@@ -36,11 +35,11 @@ fn polygon_area(p: &Polygon3d) -> f64 {
         }
         0.5 * len(n)
     };
-    ring_area(&p.outer) - p.holes.iter().map(|h| ring_area(h)).sum::<f64>()
+    ring_area(&p.shell) - p.holes.iter().map(|h| ring_area(h)).sum::<f64>()
 }
 
-fn perimeter(p: &Polygon3d) -> f64 {
-    std::iter::once(&p.outer)
+fn perimeter(p: &Polygon3) -> f64 {
+    std::iter::once(&p.shell)
         .chain(&p.holes)
         .map(|r| {
             (0..r.len())
@@ -177,7 +176,7 @@ fn sampling_stays_on_faces_and_follows_area() -> Result<(), SceneError> {
 }
 
 /// A star-shaped polygon (simple by construction) with a square hole around its centre.
-fn star(radii: &[f64], hole: f64) -> Polygon3d {
+fn star(radii: &[f64], hole: f64) -> Polygon3 {
     let n = radii.len();
     let outer = radii
         .iter()
@@ -188,7 +187,12 @@ fn star(radii: &[f64], hole: f64) -> Polygon3d {
         })
         .collect();
     let h = hole / 2.0;
-    Polygon3d::new(outer).with_hole(vec![[-h, -h, 0.5], [h, -h, 0.5], [h, h, 0.5], [-h, h, 0.5]])
+    Polygon3::from_shell(outer).with_hole(vec![
+        [-h, -h, 0.5],
+        [h, -h, 0.5],
+        [h, h, 0.5],
+        [-h, h, 0.5],
+    ])
 }
 
 proptest! {
@@ -204,7 +208,7 @@ proptest! {
         // Tilt the polygon so the face frame is not axis-aligned.
         let (s, c) = tilt.to_radians().sin_cos();
         let mut p = star(&radii, hole);
-        for q in p.outer.iter_mut().chain(p.holes.iter_mut().flatten()) {
+        for q in p.shell.iter_mut().chain(p.holes.iter_mut().flatten()) {
             *q = [q[0], c * q[1] - s * q[2], s * q[1] + c * q[2]];
         }
         let mut scene = Scene::new();

@@ -3,7 +3,7 @@
 //! determinism, and the `rgbd_like` frames.
 
 use synthscan::{
-    DepthCamera, DepthCameraKind, DepthModel, PinholeCamera, Polygon3d, Pose, ScanResult, Scene,
+    DepthCamera, DepthCameraKind, DepthModel, PinholeCamera, Polygon3, Pose, ScanResult, Scene,
     SceneError, Sensor, rgbd_like,
 };
 
@@ -13,8 +13,8 @@ fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
 
 /// A square of half-size `h` in the plane `x = x0`, facing `−x` (towards the origin),
 /// centred on `(x0, cy, cz)`.
-fn plate(x0: f64, cy: f64, cz: f64, h: f64) -> Polygon3d {
-    Polygon3d::new(vec![
+fn plate(x0: f64, cy: f64, cz: f64, h: f64) -> Polygon3 {
+    Polygon3::from_shell(vec![
         [x0, cy - h, cz - h],
         [x0, cy - h, cz + h],
         [x0, cy + h, cz + h],
@@ -166,7 +166,7 @@ fn returns_go_missing_at_grazing_incidence() -> Result<(), SceneError> {
     let mut scene = Scene::new();
     scene.add_polygon(
         0,
-        Polygon3d::new(vec![
+        Polygon3::from_shell(vec![
             [-50.0, -50.0, 0.0],
             [50.0, -50.0, 0.0],
             [50.0, 50.0, 0.0],
@@ -329,7 +329,7 @@ fn depth_outside_the_range_is_missing() -> Result<(), SceneError> {
     let mut scene = Scene::new();
     scene.add_polygon(
         0,
-        Polygon3d::new(vec![
+        Polygon3::from_shell(vec![
             [0.2, 3.0, -10.0],
             [0.2, 3.0, 10.0],
             [4.0, -3.0, 10.0],

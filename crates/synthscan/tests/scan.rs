@@ -2,7 +2,7 @@
 //! noise statistics, and determinism.
 
 use synthscan::{
-    FLOOR_LABEL, Noise, PinholeCamera, Polygon3d, Pose, RoomConfig, ScanResult, Scene, SceneError,
+    FLOOR_LABEL, Noise, PinholeCamera, Polygon3, Pose, RoomConfig, ScanResult, Scene, SceneError,
     Sensor, SphericalSensor, synpeb_like,
 };
 
@@ -206,7 +206,7 @@ fn tilted_plane() -> Result<(Scene, PinholeCamera, [f64; 3], f64), SceneError> {
         corner(-10.0, 10.0),
     ];
     let mut scene = Scene::new();
-    scene.add_polygon(0, Polygon3d::new(ring))?;
+    scene.add_polygon(0, Polygon3::from_shell(ring))?;
     let pose = Pose::look_at([0.0, 0.0, 3.0], [0.0, 0.0, 0.0], [0.0, 1.0, 0.0])?;
     let cam = PinholeCamera::new(100, 100, 60.0, 60.0)?.with_pose(pose);
     Ok((scene, cam, n, 0.0))

@@ -1,6 +1,6 @@
 //! 3D polygons (shell + holes as coordinates) and their measures.
 
-use crate::plane::{add, cross, norm, sub};
+use crate::vec3::{add, cross, norm, sub};
 
 /// A polygon with holes in 3D: rings of points, each ring **open** (the first point is not
 /// repeated at the end).
@@ -39,6 +39,18 @@ impl Polygon3 {
     /// A polygon from a shell and holes.
     pub fn new(shell: Vec<[f64; 3]>, holes: Vec<Vec<[f64; 3]>>) -> Self {
         Self { shell, holes }
+    }
+
+    /// A polygon without holes.
+    pub fn from_shell(shell: Vec<[f64; 3]>) -> Self {
+        Self::new(shell, Vec::new())
+    }
+
+    /// The same polygon with one more hole.
+    #[must_use]
+    pub fn with_hole(mut self, hole: Vec<[f64; 3]>) -> Self {
+        self.holes.push(hole);
+        self
     }
 
     /// Area, perimeter, vertex count and bounding box. An empty shell gives zero area and
