@@ -1,6 +1,7 @@
 //! Normals by principal component analysis of each point's neighbourhood: the
 //! eigenvector of the smallest eigenvalue of the neighbours' covariance.
 
+use plane_geom::vec3::{cross, dot};
 use rayon::prelude::*;
 
 use crate::Neighbours;
@@ -82,6 +83,7 @@ pub fn smallest_eigenvector(c: [f64; 6]) -> Option<([f64; 3], f64)> {
     let r0 = [xx - smallest, xy, xz];
     let r1 = [xy, yy - smallest, yz];
     let r2 = [xz, yz, zz - smallest];
+    let norm2 = |a: [f64; 3]| dot(a, a);
     let best = [cross(r0, r1), cross(r0, r2), cross(r1, r2)]
         .into_iter()
         .max_by(|a, b| norm2(*a).total_cmp(&norm2(*b)))?;
@@ -120,20 +122,6 @@ pub fn estimate_normals(points: &[[f64; 3]], neighbours: &Neighbours) -> Vec<[f6
             }
         });
     normals
-}
-
-#[inline]
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-#[inline]
-fn norm2(a: [f64; 3]) -> f64 {
-    a[0] * a[0] + a[1] * a[1] + a[2] * a[2]
 }
 
 /// `passes` of Laplacian smoothing on the neighbour graph: each point moves to the mean of

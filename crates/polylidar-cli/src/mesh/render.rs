@@ -3,6 +3,7 @@
 //! intrinsics), otherwise an oblique orthographic view (35° above the horizon, 30° round
 //! `up`).
 
+use plane_geom::vec3::{cross, dot};
 use polylidar::Intrinsics;
 use polylidar::planar_mesh::{MergedMesh, Texture};
 use tiny_skia::{Color, Paint, PathBuilder, Pixmap, Stroke, Transform};
@@ -256,18 +257,6 @@ fn plane_colour(plane: usize) -> [u8; 3] {
         [150, 150, 150],
     ];
     PALETTE[plane % PALETTE.len()]
-}
-
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
 }
 
 fn normalize(a: [f64; 3]) -> [f64; 3] {
