@@ -63,6 +63,16 @@ impl SegmentationConfig {
         self
     }
 
+    /// Sets [`Self::norm_thresh`] from an angle in degrees (its cosine).
+    ///
+    /// ```
+    /// let config = planeseg::SegmentationConfig::new().with_norm_thresh_degrees(60.0);
+    /// assert!((config.norm_thresh - 0.5).abs() < 1e-12);
+    /// ```
+    pub fn with_norm_thresh_degrees(self, degrees: f64) -> Self {
+        self.with_norm_thresh(degrees.to_radians().cos())
+    }
+
     /// Sets [`Self::z_thresh`].
     pub fn with_z_thresh(mut self, z_thresh: f64) -> Self {
         self.z_thresh = z_thresh;

@@ -267,10 +267,12 @@ pub struct ParamArgs {
     )]
     pub min_hole_vertices: Option<usize>,
     /// 2.5D / 3D: minimum cosine between a triangle normal and its plane's (2.5D: the up
-    /// vector). Default: the preset's, else 0.9 (about 26°).
+    /// vector), or the largest angle between them in degrees (`20deg`, `20°`). Default: the
+    /// preset's, else 0.9 (about 26°).
     #[arg(
         long,
         allow_negative_numbers = true,
+        value_parser = cosine,
         help_heading = "Parameters (override the preset and --config)"
     )]
     pub norm_thresh: Option<f64>,
@@ -302,4 +304,10 @@ pub struct ParamArgs {
     /// Organized clouds: skip the preset's Laplacian and bilateral smoothing.
     #[arg(long, help_heading = "Parameters (override the preset and --config)")]
     pub no_smoothing: bool,
+}
+
+/// `--norm-thresh`: a cosine or an angle in degrees ([`polylidar::parse_cosine`]).
+fn cosine(text: &str) -> Result<f64, String> {
+    polylidar::parse_cosine(text)
+        .ok_or_else(|| format!("{text:?} is neither a cosine (0.94) nor an angle (20deg)"))
 }

@@ -146,6 +146,32 @@ fn up_takes_commas_or_spaces_and_needs_three_numbers() {
 }
 
 #[test]
+fn norm_thresh_takes_a_cosine_or_degrees() {
+    let dir = scratch("norm");
+    let cloud = flat_cloud(&dir, 15, 1.0);
+    let path = cloud.to_str().unwrap();
+    let run = |value: &str| {
+        json(&polylidar(&[
+            "extract",
+            path,
+            "--json",
+            "--norm-thresh",
+            value,
+        ]))
+    };
+    let cosine = run("0.5");
+    for degrees in ["60deg", "60 deg", "60°"] {
+        let out = run(degrees);
+        let got = out["parameters"]["norm_thresh"].as_f64().unwrap();
+        assert!((got - 0.5).abs() < 1e-12, "{degrees}: {got}");
+        assert_eq!(out["counts"], cosine["counts"]);
+    }
+    let bad = polylidar(&["extract", path, "--norm-thresh", "200deg"]);
+    assert_eq!(bad.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("neither a cosine"));
+}
+
+#[test]
 fn flags_that_do_not_apply_are_reported() {
     let dir = scratch("warn");
     let (rows, cols) = (20, 30);

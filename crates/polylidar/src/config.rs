@@ -91,6 +91,9 @@ pub struct Config {
     pub min_hole_vertices: usize,
     /// 2.5D only: keep a triangle only if the cosine between its normal and `up` is at
     /// least `norm_thresh` (the papers' ang_min as a cosine; `0.94` ≈ 20°). `-1` keeps all.
+    /// In TOML also an angle in degrees, `norm_thresh = "20deg"` (see [`parse_cosine`]);
+    /// in code [`Config::with_norm_thresh_degrees`].
+    #[serde(deserialize_with = "cosine_or_degrees")]
     pub norm_thresh: f64,
     /// 2.5D only: the direction the cloud is triangulated along and polygons are viewed
     /// from (unit or not; must be non-zero).
@@ -510,6 +513,16 @@ impl Config {
         self
     }
 
+    /// Sets [`Config::norm_thresh`] from an angle in degrees (its cosine).
+    ///
+    /// ```
+    /// let config = polylidar::Config::new().with_norm_thresh_degrees(60.0);
+    /// assert!((config.norm_thresh - 0.5).abs() < 1e-12);
+    /// ```
+    pub fn with_norm_thresh_degrees(self, degrees: f64) -> Self {
+        self.with_norm_thresh(degrees.to_radians().cos())
+    }
+
     /// Sets [`Config::up`].
     pub fn with_up(mut self, up: [f64; 3]) -> Self {
         self.up = up;
@@ -685,6 +698,51 @@ fn backend_available(field: &'static str, backend: SmoothingBackend) -> Result<(
 
 /// A smoothing filter's option error as a [`PolylidarError::Config`] naming the TOML
 /// field (`laplacian.kernel`, `bilateral.sigma_angle`, …).
+/// A cosine threshold written as a cosine (`"0.94"`) or as an angle in degrees
+/// (`"20deg"`, `"20 deg"`, `"20°"`, 0 to 180): the cosine, or `None` for anything else.
+///
+/// ```
+/// use polylidar::parse_cosine;
+///
+/// assert_eq!(parse_cosine("0.94"), Some(0.94));
+/// assert!((parse_cosine("60deg").unwrap() - 0.5).abs() < 1e-12);
+/// assert!((parse_cosine("60°").unwrap() - 0.5).abs() < 1e-12);
+/// assert_eq!(parse_cosine("200deg"), None);
+/// assert_eq!(parse_cosine("steep"), None);
+/// ```
+pub fn parse_cosine(text: &str) -> Option<f64> {
+    let text = text.trim();
+    let degrees = text
+        .strip_suffix("deg")
+        .or_else(|| text.strip_suffix('°'))
+        .map(str::trim_end);
+    match degrees {
+        Some(d) => {
+            let d: f64 = d.parse().ok()?;
+            (0.0..=180.0).contains(&d).then(|| d.to_radians().cos())
+        }
+        None => text.parse().ok(),
+    }
+}
+
+/// `norm_thresh` from TOML or JSON: a number (a cosine) or a string [`parse_cosine`] reads.
+fn cosine_or_degrees<'de, D: serde::Deserializer<'de>>(deserializer: D) -> Result<f64, D::Error> {
+    #[derive(Deserialize)]
+    #[serde(untagged)]
+    enum Written {
+        Cosine(f64),
+        Text(String),
+    }
+    match Written::deserialize(deserializer)? {
+        Written::Cosine(c) => Ok(c),
+        Written::Text(text) => parse_cosine(&text).ok_or_else(|| {
+            serde::de::Error::custom(format!(
+                "norm_thresh {text:?}: a cosine such as 0.94 or an angle such as \"20deg\""
+            ))
+        }),
+    }
+}
+
 /// A fill option's error with the field named as in the TOML (`fill_missing.…`).
 fn fill_error(error: OpcError) -> PolylidarError {
     match error {
@@ -996,6 +1054,22 @@ mod tests {
                 "{threads}: {text}"
             );
         }
+    }
+
+    #[test]
+    fn norm_thresh_reads_a_cosine_or_degrees_from_toml() {
+        let cosine = |text: &str| toml::from_str::<Config>(text).map(|c| c.norm_thresh);
+        assert_eq!(cosine("norm_thresh = 0.5").unwrap(), 0.5);
+        assert_eq!(cosine("norm_thresh = 1").unwrap(), 1.0);
+        for text in ["norm_thresh = \"60deg\"", "norm_thresh = \"60 °\""] {
+            assert!((cosine(text).unwrap() - 0.5).abs() < 1e-12, "{text}");
+        }
+        let error = cosine("norm_thresh = \"steep\"").unwrap_err().to_string();
+        assert!(error.contains("20deg"), "{error}");
+        // Written back, it is the cosine.
+        let config = Config::new().with_norm_thresh_degrees(60.0);
+        let text = toml::to_string(&config).unwrap();
+        assert!((cosine(&text).unwrap() - 0.5).abs() < 1e-12);
     }
 
     /// The stage configurations the config holds as they are keep their TOML form: every

@@ -59,7 +59,7 @@ pub mod unorganized;
 
 pub use config::{
     BilateralConfig, Config, DominantNormalsConfig, LaplacianConfig, LaplacianIterations,
-    MAX_RANGE_EXPONENT, MAX_THREADS_PER_CORE, SmoothingBackend, max_threads,
+    MAX_RANGE_EXPONENT, MAX_THREADS_PER_CORE, SmoothingBackend, max_threads, parse_cosine,
 };
 pub use diagnostics::{Counts, Diagnostics, Timings};
 pub use error::PolylidarError;
