@@ -45,7 +45,9 @@ pub use knn::Neighbours;
 pub use noise::{MAX_AUTO_PASSES, NOISE_SAMPLES, neighbourhood_noise, predict_smoothing_passes};
 pub use order::spatial_order;
 pub use orient::{Orientation, SIDE_COS, orient};
-pub use pca::{estimate_normals, plane_normal, smallest_eigenvector, smooth_points};
+pub use pca::{estimate_normals, plane_normal, smooth_points};
+/// The closed-form eigenvector behind [`plane_normal`], `plane-geom`'s.
+pub use plane_geom::smallest_eigenvector;
 pub use voxel::{Voxels, voxel_downsample};
 
 #[doc = include_str!("../README.md")]

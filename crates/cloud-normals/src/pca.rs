@@ -1,7 +1,7 @@
 //! Normals by principal component analysis of each point's neighbourhood: the
 //! eigenvector of the smallest eigenvalue of the neighbours' covariance.
 
-use plane_geom::vec3::{cross, dot};
+use plane_geom::smallest_eigenvector;
 use rayon::prelude::*;
 
 use crate::Neighbours;
@@ -33,65 +33,18 @@ pub fn plane_normal(points: impl Iterator<Item = [f64; 3]> + Clone) -> Option<([
         return None;
     }
     let mean = mean.map(|m| m / n as f64);
-    // Upper triangle of the covariance: xx, xy, xz, yy, yz, zz.
+    // The covariance's entries: xx, yy, zz, xy, xz, yz.
     let mut c = [0.0; 6];
     for p in points {
         let d = [p[0] - mean[0], p[1] - mean[1], p[2] - mean[2]];
         c[0] += d[0] * d[0];
-        c[1] += d[0] * d[1];
-        c[2] += d[0] * d[2];
-        c[3] += d[1] * d[1];
-        c[4] += d[1] * d[2];
-        c[5] += d[2] * d[2];
+        c[3] += d[0] * d[1];
+        c[4] += d[0] * d[2];
+        c[1] += d[1] * d[1];
+        c[5] += d[1] * d[2];
+        c[2] += d[2] * d[2];
     }
     smallest_eigenvector(c)
-}
-
-/// The unit eigenvector of the smallest eigenvalue of the symmetric matrix with upper
-/// triangle `c = [xx, xy, xz, yy, yz, zz]`, and that eigenvalue over the trace; `None` when
-/// it is not unique (the two smallest eigenvalues equal: a line, a spot) or the matrix is
-/// not finite.
-pub fn smallest_eigenvector(c: [f64; 6]) -> Option<([f64; 3], f64)> {
-    let [xx, xy, xz, yy, yz, zz] = c;
-    let trace = xx + yy + zz;
-    if !(trace.is_finite() && trace > 0.0) {
-        return None;
-    }
-    // Scale to unit trace so that the tolerances below are relative.
-    let s = 1.0 / trace;
-    let (xx, xy, xz, yy, yz, zz) = (xx * s, xy * s, xz * s, yy * s, yz * s, zz * s);
-    let q = 1.0 / 3.0;
-    let off = xy * xy + xz * xz + yz * yz;
-    let p2 = (xx - q).powi(2) + (yy - q).powi(2) + (zz - q).powi(2) + 2.0 * off;
-    let p = (p2 / 6.0).sqrt();
-    if p < 1e-12 {
-        return None;
-    }
-    // B = (A − qI) / p; r = det(B) / 2 ∈ [−1, 1]; eigenvalues q + 2p cos(φ + 2πj/3).
-    let (b00, b11, b22) = ((xx - q) / p, (yy - q) / p, (zz - q) / p);
-    let (b01, b02, b12) = (xy / p, xz / p, yz / p);
-    let det = b00 * (b11 * b22 - b12 * b12) - b01 * (b01 * b22 - b12 * b02)
-        + b02 * (b01 * b12 - b11 * b02);
-    let phi = (det / 2.0).clamp(-1.0, 1.0).acos() / 3.0;
-    let smallest = q + 2.0 * p * (phi + 2.0 * std::f64::consts::PI / 3.0).cos();
-    let middle = q + 2.0 * p * (phi + 4.0 * std::f64::consts::PI / 3.0).cos();
-    if middle - smallest < 1e-6 {
-        return None;
-    }
-    // The eigenvector is orthogonal to every row of A − λI: the largest cross product of
-    // two rows.
-    let r0 = [xx - smallest, xy, xz];
-    let r1 = [xy, yy - smallest, yz];
-    let r2 = [xz, yz, zz - smallest];
-    let norm2 = |a: [f64; 3]| dot(a, a);
-    let best = [cross(r0, r1), cross(r0, r2), cross(r1, r2)]
-        .into_iter()
-        .max_by(|a, b| norm2(*a).total_cmp(&norm2(*b)))?;
-    let len = norm2(best).sqrt();
-    if !(len.is_finite() && len > 0.0) {
-        return None;
-    }
-    Some((best.map(|v| v / len), smallest.max(0.0)))
 }
 
 /// PCA normals of every point from its [`Neighbours`] (unit, sign arbitrary until

@@ -308,8 +308,8 @@ proptest! {
         order.sort_by(|&i, &j| eigen.eigenvalues[i].total_cmp(&eigen.eigenvalues[j]));
         let gap = eigen.eigenvalues[order[1]] - eigen.eigenvalues[order[0]];
         prop_assume!(gap > 1e-6 * a.trace());
-        let upper = [a[(0, 0)], a[(0, 1)], a[(0, 2)], a[(1, 1)], a[(1, 2)], a[(2, 2)]];
-        let (v, ratio) = smallest_eigenvector(upper).unwrap();
+        let entries = [a[(0, 0)], a[(1, 1)], a[(2, 2)], a[(0, 1)], a[(0, 2)], a[(1, 2)]];
+        let (v, ratio) = smallest_eigenvector(entries).unwrap();
         let expected = eigen.eigenvectors.column(order[0]);
         let cos = (v[0] * expected[0] + v[1] * expected[1] + v[2] * expected[2]).abs();
         prop_assert!(cos > 1.0 - 1e-6, "{v:?} vs {expected:?}");

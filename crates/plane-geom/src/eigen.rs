@@ -2,7 +2,7 @@
 
 use nalgebra::{Matrix3, SymmetricEigen};
 
-use crate::vec3::Vec3;
+use crate::vec3::{Vec3, cross, dot};
 
 /// The most implicit QR steps [`symmetric_eigen`] runs before giving up; a finite 3 × 3 matrix
 /// converges in a few dozen, so the cap only turns a would-be hang into `None`.
@@ -98,6 +98,65 @@ pub fn symmetric_eigenvalues(a: [f64; 6]) -> [f64; 3] {
     [smallest, middle, largest]
 }
 
+/// The unit eigenvector of the smallest eigenvalue of the symmetric matrix given by its
+/// entries `c = [xx, yy, zz, xy, xz, yz]`, and that eigenvalue over the trace; `None` when
+/// it is not unique (the two smallest eigenvalues equal: a line, a spot) or the matrix is
+/// not finite. The closed form of [`symmetric_eigenvalues`] for the value, the largest
+/// cross product of two rows of `A − λI` for the vector: the fast path for a normal per
+/// point (PCA normals of unorganized clouds).
+///
+/// ```
+/// use plane_geom::smallest_eigenvector;
+///
+/// // The covariance of points spread in x and y: the normal is ±z.
+/// let (normal, ratio) = smallest_eigenvector([2.0, 1.0, 0.0, 0.0, 0.0, 0.0]).ok_or("not unique")?;
+/// assert!((normal[2].abs() - 1.0).abs() < 1e-12);
+/// assert!(ratio < 1e-12);
+/// # Ok::<(), &str>(())
+/// ```
+pub fn smallest_eigenvector(c: [f64; 6]) -> Option<([f64; 3], f64)> {
+    let [xx, yy, zz, xy, xz, yz] = c;
+    let trace = xx + yy + zz;
+    if !(trace.is_finite() && trace > 0.0) {
+        return None;
+    }
+    // Scale to unit trace so that the tolerances below are relative.
+    let s = 1.0 / trace;
+    let (xx, xy, xz, yy, yz, zz) = (xx * s, xy * s, xz * s, yy * s, yz * s, zz * s);
+    let q = 1.0 / 3.0;
+    let off = xy * xy + xz * xz + yz * yz;
+    let p2 = (xx - q).powi(2) + (yy - q).powi(2) + (zz - q).powi(2) + 2.0 * off;
+    let p = (p2 / 6.0).sqrt();
+    if p < 1e-12 {
+        return None;
+    }
+    // B = (A − qI) / p; r = det(B) / 2 ∈ [−1, 1]; eigenvalues q + 2p cos(φ + 2πj/3).
+    let (b00, b11, b22) = ((xx - q) / p, (yy - q) / p, (zz - q) / p);
+    let (b01, b02, b12) = (xy / p, xz / p, yz / p);
+    let det = b00 * (b11 * b22 - b12 * b12) - b01 * (b01 * b22 - b12 * b02)
+        + b02 * (b01 * b12 - b11 * b02);
+    let phi = (det / 2.0).clamp(-1.0, 1.0).acos() / 3.0;
+    let smallest = q + 2.0 * p * (phi + 2.0 * std::f64::consts::PI / 3.0).cos();
+    let middle = q + 2.0 * p * (phi + 4.0 * std::f64::consts::PI / 3.0).cos();
+    if middle - smallest < 1e-6 {
+        return None;
+    }
+    // The eigenvector is orthogonal to every row of A − λI: the largest cross product of
+    // two rows.
+    let r0 = [xx - smallest, xy, xz];
+    let r1 = [xy, yy - smallest, yz];
+    let r2 = [xz, yz, zz - smallest];
+    let norm2 = |a: [f64; 3]| dot(a, a);
+    let best = [cross(r0, r1), cross(r0, r2), cross(r1, r2)]
+        .into_iter()
+        .max_by(|a, b| norm2(*a).total_cmp(&norm2(*b)))?;
+    let len = norm2(best).sqrt();
+    if !(len.is_finite() && len > 0.0) {
+        return None;
+    }
+    Some((best.map(|v| v / len), smallest.max(0.0)))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -111,6 +170,41 @@ mod tests {
         let e = symmetric_eigen([[3.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 2.0]]);
         assert_eq!(e.map(|e| e.values), Some([1.0, 2.0, 3.0]));
         assert_eq!(e.map(|e| e.vectors[0].map(f64::abs)), Some([0.0, 1.0, 0.0]));
+    }
+
+    /// The closed-form smallest eigenvector against nalgebra's decomposition, on
+    /// covariances `M Mᵀ` of a grid of matrices with a clear smallest eigenvalue.
+    #[test]
+    fn smallest_eigenvector_matches_the_full_decomposition() {
+        let mut checked = 0;
+        for k in 0..500 {
+            let t = f64::from(k);
+            let m = [
+                [(t * 0.37).sin(), (t * 0.11).cos(), 0.3],
+                [(t * 0.73).cos(), 0.5, (t * 0.29).sin()],
+                [0.1 * (t * 0.53).sin(), (t * 0.17).sin(), (t * 0.91).cos()],
+            ];
+            let a: [[f64; 3]; 3] =
+                std::array::from_fn(|i| std::array::from_fn(|j| dot(m[i], m[j])));
+            let full = symmetric_eigen(a).unwrap();
+            let trace = a[0][0] + a[1][1] + a[2][2];
+            if full.values[1] - full.values[0] < 1e-3 * trace {
+                continue;
+            }
+            let c = [a[0][0], a[1][1], a[2][2], a[0][1], a[0][2], a[1][2]];
+            let (v, ratio) = smallest_eigenvector(c).unwrap();
+            assert!(
+                dot(v, full.vectors[0]).abs() > 1.0 - 1e-9,
+                "{k}: {v:?} {:?}",
+                full.vectors[0]
+            );
+            assert!(
+                (ratio - full.values[0].max(0.0) / trace).abs() < 1e-9,
+                "{k}"
+            );
+            checked += 1;
+        }
+        assert!(checked > 300, "{checked}");
     }
 
     #[test]
