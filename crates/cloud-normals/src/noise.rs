@@ -1,6 +1,6 @@
 //! How noisy a cloud's surfaces are, relative to its point spacing.
 
-use plane_geom::symmetric_eigenvalues;
+use plane_geom::{covariance, symmetric_eigenvalues};
 
 use crate::Neighbours;
 
@@ -60,34 +60,9 @@ pub fn neighbourhood_noise(points: &[[f64; 3]], neighbours: &Neighbours) -> Opti
 /// `√λ₀ / (λ₁λ₂)^¼` of the covariance of the points `around`; `None` when they span no
 /// plane.
 fn relative_noise(points: &[[f64; 3]], around: &[u32]) -> Option<f64> {
-    let n = around.len() as f64;
     // Offsets from the first point, for precision far from the origin.
     let origin = points[*around.first()? as usize];
-    let mut sum = [0.0f64; 3];
-    // xx, yy, zz, xy, xz, yz.
-    let mut sq = [0.0f64; 6];
-    for &v in around {
-        let p = points[v as usize];
-        let d = [p[0] - origin[0], p[1] - origin[1], p[2] - origin[2]];
-        for a in 0..3 {
-            sum[a] += d[a];
-        }
-        sq[0] += d[0] * d[0];
-        sq[1] += d[1] * d[1];
-        sq[2] += d[2] * d[2];
-        sq[3] += d[0] * d[1];
-        sq[4] += d[0] * d[2];
-        sq[5] += d[1] * d[2];
-    }
-    let m = sum.map(|s| s / n);
-    let covariance = [
-        sq[0] / n - m[0] * m[0],
-        sq[1] / n - m[1] * m[1],
-        sq[2] / n - m[2] * m[2],
-        sq[3] / n - m[0] * m[1],
-        sq[4] / n - m[0] * m[2],
-        sq[5] / n - m[1] * m[2],
-    ];
+    let covariance = covariance(origin, around.iter().map(|&v| points[v as usize]))?;
     let [low, middle, high] = symmetric_eigenvalues(covariance);
     let spread = (middle * high).sqrt();
     if !(spread.is_finite() && spread > 0.0 && middle > 1e-12 * high) {

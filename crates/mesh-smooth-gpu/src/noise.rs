@@ -4,7 +4,7 @@
 //! cloud noise").
 
 use opc_mesh::OrganizedPointCloud;
-use plane_geom::symmetric_eigenvalues;
+use plane_geom::{covariance, symmetric_eigenvalues};
 use rayon::prelude::*;
 
 /// At most about this many 3 × 3 neighbourhoods are fitted per cloud (a regular grid of
@@ -273,35 +273,12 @@ fn median_of(cloud: &OrganizedPointCloud, value: impl Fn(Fit) -> Option<f64>) ->
 #[inline]
 fn fit(points: &[[f64; 3]], cols: usize, r: usize, c: usize) -> Option<Fit> {
     let centre = points[r * cols + c];
-    let mut sum = [0.0f64; 3];
-    // xx, yy, zz, xy, xz, yz of the offsets from the centre point (for precision).
-    let mut sq = [0.0f64; 6];
-    for row in points[(r - 1) * cols..(r + 2) * cols].chunks_exact(cols) {
-        for p in &row[c - 1..c + 2] {
-            let d = [p[0] - centre[0], p[1] - centre[1], p[2] - centre[2]];
-            if !(d[0].is_finite() && d[1].is_finite() && d[2].is_finite()) {
-                return None;
-            }
-            sum[0] += d[0];
-            sum[1] += d[1];
-            sum[2] += d[2];
-            sq[0] += d[0] * d[0];
-            sq[1] += d[1] * d[1];
-            sq[2] += d[2] * d[2];
-            sq[3] += d[0] * d[1];
-            sq[4] += d[0] * d[2];
-            sq[5] += d[1] * d[2];
-        }
-    }
-    let m = sum.map(|s| s / 9.0);
-    let a = [
-        sq[0] / 9.0 - m[0] * m[0],
-        sq[1] / 9.0 - m[1] * m[1],
-        sq[2] / 9.0 - m[2] * m[2],
-        sq[3] / 9.0 - m[0] * m[1],
-        sq[4] / 9.0 - m[0] * m[2],
-        sq[5] / 9.0 - m[1] * m[2],
-    ];
+    let window = points[(r - 1) * cols..(r + 2) * cols]
+        .chunks_exact(cols)
+        .flat_map(|row| &row[c - 1..c + 2])
+        .copied();
+    // Offsets from the centre point, for precision.
+    let a = covariance(centre, window)?;
     Some(Fit {
         eigen: symmetric_eigenvalues(a),
     })

@@ -157,6 +157,54 @@ pub fn smallest_eigenvector(c: [f64; 6]) -> Option<([f64; 3], f64)> {
     Some((best.map(|v| v / len), smallest.max(0.0)))
 }
 
+/// The covariance of `points` as `[xx, yy, zz, xy, xz, yz]` (the entries
+/// [`symmetric_eigenvalues`] and [`smallest_eigenvector`] take), accumulated in one pass as
+/// offsets from `origin`, a point near them, so that coordinates far from zero keep their
+/// precision; `None` without points or when an offset is not finite.
+///
+/// ```
+/// use plane_geom::covariance;
+///
+/// let points = [[10.0, 0.0, 5.0], [12.0, 0.0, 5.0]];
+/// assert_eq!(covariance(points[0], points), Some([1.0, 0.0, 0.0, 0.0, 0.0, 0.0]));
+/// assert_eq!(covariance([0.0; 3], []), None);
+/// ```
+pub fn covariance(origin: Vec3, points: impl IntoIterator<Item = Vec3>) -> Option<[f64; 6]> {
+    let mut n = 0usize;
+    let mut sum = [0.0f64; 3];
+    // xx, yy, zz, xy, xz, yz of the offsets.
+    let mut sq = [0.0f64; 6];
+    for p in points {
+        let d = [p[0] - origin[0], p[1] - origin[1], p[2] - origin[2]];
+        if !(d[0].is_finite() && d[1].is_finite() && d[2].is_finite()) {
+            return None;
+        }
+        n += 1;
+        for a in 0..3 {
+            sum[a] += d[a];
+        }
+        sq[0] += d[0] * d[0];
+        sq[1] += d[1] * d[1];
+        sq[2] += d[2] * d[2];
+        sq[3] += d[0] * d[1];
+        sq[4] += d[0] * d[2];
+        sq[5] += d[1] * d[2];
+    }
+    if n == 0 {
+        return None;
+    }
+    let n = n as f64;
+    let m = sum.map(|s| s / n);
+    Some([
+        sq[0] / n - m[0] * m[0],
+        sq[1] / n - m[1] * m[1],
+        sq[2] / n - m[2] * m[2],
+        sq[3] / n - m[0] * m[1],
+        sq[4] / n - m[0] * m[2],
+        sq[5] / n - m[1] * m[2],
+    ])
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
