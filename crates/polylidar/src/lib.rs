@@ -63,9 +63,19 @@ pub use config::{
 };
 pub use diagnostics::{Counts, Diagnostics, Timings};
 pub use error::PolylidarError;
+// The stage errors `PolylidarError` wraps, so that a caller can match on them.
+pub use cloud_normals::NormalsError;
 pub use fastga::FastGaConfig;
+pub use fastga::FastGaError;
 pub use halfedge_mesh::{HalfEdgeMesh, MeshError};
 pub use mesh::PlanarMeshes;
+pub use mesh_smooth_gpu::SmoothError;
+pub use planeseg::SegmentError;
+pub use polyextract::ExtractError;
+#[cfg(feature = "io")]
+pub use polylidar_io::IoError;
+pub use polypost::PostError;
+pub use rotating_scan::ScanError;
 // Noise estimates and the trained models that turn them into smoothing passes: the
 // organized path's in `mesh-smooth-gpu`, beside the Laplacian filter they drive; the
 // unorganized path's in `cloud-normals`, beside its point smoothing.
