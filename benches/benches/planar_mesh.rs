@@ -12,7 +12,7 @@
 use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use polylidar::planar_mesh::{MeshOptions, Method, TextureOptions};
+use polylidar::planar_mesh::{Method, SimplifyOptions, TextureOptions};
 use polylidar::{Config, DepthOptions, Extraction, Intrinsics, OrganizedPointCloud, Polylidar};
 
 /// The allocator of the `polylidar` command line (see its `main.rs`), so that the bench
@@ -49,7 +49,7 @@ fn bench(c: &mut Criterion) {
             .expect("a thread pool");
         for (name, method) in [("point", Method::Point), ("polygon", Method::Polygon)] {
             for textured in [false, true] {
-                let mut options = MeshOptions::new()
+                let mut options = SimplifyOptions::new()
                     .with_method(method)
                     .with_parallel(threads > 1);
                 if textured {

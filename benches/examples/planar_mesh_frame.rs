@@ -14,7 +14,7 @@
 
 use std::time::Instant;
 
-use polylidar::planar_mesh::{MeshOptions, Method, TextureOptions};
+use polylidar::planar_mesh::{Method, SimplifyOptions, TextureOptions};
 use polylidar::{Config, DepthOptions, Intrinsics, OrganizedPointCloud, Polylidar};
 
 /// The allocator of the `polylidar` command line.
@@ -50,7 +50,7 @@ fn main() {
         dump_segments(&extraction, &color.rgb, &dump);
     }
 
-    let mut options = MeshOptions::new()
+    let mut options = SimplifyOptions::new()
         .with_method(method)
         .with_parallel(threads > 1);
     if textured {

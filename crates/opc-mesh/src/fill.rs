@@ -15,7 +15,7 @@ use crate::{OpcError, OrganizedPointCloud, is_valid};
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "serde", serde(default, deny_unknown_fields))]
 #[non_exhaustive]
-pub struct FillOptions {
+pub struct FillConfig {
     /// Valid pixels needed among the 8 around it, 1–8. Default 4.
     pub min_neighbours: u8,
     /// Largest spread of those neighbours' ranges (distance from the origin), as a share
@@ -23,7 +23,7 @@ pub struct FillOptions {
     pub max_spread: f64,
 }
 
-impl Default for FillOptions {
+impl Default for FillConfig {
     fn default() -> Self {
         Self {
             min_neighbours: 4,
@@ -32,7 +32,7 @@ impl Default for FillOptions {
     }
 }
 
-impl FillOptions {
+impl FillConfig {
     /// Sets [`Self::min_neighbours`].
     pub fn with_min_neighbours(mut self, min_neighbours: u8) -> Self {
         self.min_neighbours = min_neighbours;
@@ -49,10 +49,10 @@ impl FillOptions {
     /// fills nothing).
     ///
     /// ```
-    /// use opc_mesh::{FillOptions, OpcError};
+    /// use opc_mesh::{FillConfig, OpcError};
     ///
-    /// assert!(FillOptions::default().validate().is_ok());
-    /// let error = FillOptions::default().with_min_neighbours(9).validate().unwrap_err();
+    /// assert!(FillConfig::default().validate().is_ok());
+    /// let error = FillConfig::default().with_min_neighbours(9).validate().unwrap_err();
     /// assert!(matches!(error, OpcError::InvalidParameter { name: "min_neighbours", .. }));
     /// ```
     ///
@@ -86,19 +86,19 @@ impl OrganizedPointCloud {
     /// point); options out of range fill nothing.
     ///
     /// ```
-    /// use opc_mesh::{FillOptions, OrganizedPointCloud};
+    /// use opc_mesh::{FillConfig, OrganizedPointCloud};
     ///
     /// // A 3 × 3 patch of a wall 2 m away with its centre missing.
     /// let mut points: Vec<[f64; 3]> =
     ///     (0..9).map(|i| [(i % 3) as f64 * 0.01, (i / 3) as f64 * 0.01, 2.0]).collect();
     /// points[4] = [f64::NAN; 3];
     /// let mut cloud = OrganizedPointCloud::new(3, 3, points)?;
-    /// let filled = cloud.fill_missing(&FillOptions::default());
+    /// let filled = cloud.fill_missing(&FillConfig::default());
     /// assert_eq!(filled.iter().filter(|&&f| f).count(), 1);
     /// assert_eq!(cloud.point(1, 1), [0.01, 0.01, 2.0]);
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
-    pub fn fill_missing(&mut self, options: &FillOptions) -> Vec<bool> {
+    pub fn fill_missing(&mut self, options: &FillConfig) -> Vec<bool> {
         let (rows, cols) = (self.rows(), self.cols());
         let mut filled = vec![false; rows * cols];
         if options.validate().is_err() || rows < 3 || cols < 3 {
@@ -134,7 +134,7 @@ fn fill_value(
     cols: usize,
     r: usize,
     c: usize,
-    options: &FillOptions,
+    options: &FillConfig,
 ) -> Option<[f64; 3]> {
     let mut count = 0u8;
     let mut sum = [0.0; 3];
@@ -181,7 +181,7 @@ mod tests {
             points[i] = [f64::NAN; 3];
         }
         let mut cloud = OrganizedPointCloud::new(20, 20, points).unwrap();
-        let filled = cloud.fill_missing(&FillOptions::default());
+        let filled = cloud.fill_missing(&FillConfig::default());
         for (i, p) in cloud.points().iter().enumerate() {
             let (r, c) = (i / 20, i % 20);
             let border = r == 0 || c == 0 || r == 19 || c == 19;
@@ -203,15 +203,15 @@ mod tests {
             points[i] = [f64::NAN; 3];
         }
         let mut cloud = OrganizedPointCloud::new(5, 10, points).unwrap();
-        let filled = cloud.fill_missing(&FillOptions::default());
+        let filled = cloud.fill_missing(&FillConfig::default());
         assert!(!filled[25]);
         assert!(!filled[22]);
         assert!(!is_valid(&cloud.points()[25]));
         // With three neighbours enough (and those filled before now counting), it fills;
         // the step still does not.
-        let options = FillOptions {
+        let options = FillConfig {
             min_neighbours: 3,
-            ..FillOptions::default()
+            ..FillConfig::default()
         };
         let filled = cloud.fill_missing(&options);
         assert!(filled[22]);
@@ -224,17 +224,17 @@ mod tests {
         points[4] = [f64::NAN; 3];
         let mut cloud = OrganizedPointCloud::new(3, 3, points).unwrap();
         for options in [
-            FillOptions {
+            FillConfig {
                 min_neighbours: 0,
-                ..FillOptions::default()
+                ..FillConfig::default()
             },
-            FillOptions {
+            FillConfig {
                 min_neighbours: 9,
-                ..FillOptions::default()
+                ..FillConfig::default()
             },
-            FillOptions {
+            FillConfig {
                 max_spread: f64::NAN,
-                ..FillOptions::default()
+                ..FillConfig::default()
             },
         ] {
             assert!(cloud.fill_missing(&options).iter().all(|f| !f));

@@ -8,7 +8,7 @@
 //!   pinhole [`Intrinsics`] ([`DepthOptions`]: depth scale, stride, maximum depth);
 //!   [`OrganizedPointCloud::downsample`] keeps every k-th row and column;
 //!   [`OrganizedPointCloud::fill_missing`] puts back isolated missing returns
-//!   ([`FillOptions`]).
+//!   ([`FillConfig`]).
 //! * [`OrganizedPointCloud::mesh`] (or [`OrganizedPointCloud::into_mesh`], which moves the
 //!   points into the mesh) builds a [`HalfEdgeMesh`](halfedge_mesh::HalfEdgeMesh) with
 //!   twins and, if asked, unit triangle normals, plus the [`TriangleMap`] from the
@@ -50,7 +50,7 @@ mod view;
 pub use cloud::{OrganizedPointCloud, is_valid};
 pub use depth::{DepthOptions, Intrinsics};
 pub use error::OpcError;
-pub use fill::FillOptions;
+pub use fill::FillConfig;
 pub use mesh::{OpcMesh, OpcMeshOptions};
 pub use triangle_map::{CellTriangle, NO_TRIANGLE, TriangleMap};
 pub use view::OrganizedPointCloudView;

@@ -11,7 +11,7 @@
 
 use std::time::Instant;
 
-use planar_mesh::{MeshOptions, Method, Segment, TextureOptions, simplify_all};
+use planar_mesh::{Method, Segment, SimplifyOptions, TextureOptions, simplify_all};
 
 /// One dumped segment.
 struct Dumped {
@@ -77,7 +77,7 @@ fn main() {
         .iter()
         .map(|d| Segment::new(&d.points, &d.shell, &d.holes).with_colors(&d.colors))
         .collect();
-    let mut options = MeshOptions::new()
+    let mut options = SimplifyOptions::new()
         .with_method(method)
         .with_parallel(threads > 1);
     if textured {

@@ -11,7 +11,7 @@ use spade::{
     LineIntersectionIterator, Point2, Triangulation,
 };
 
-use crate::MeshError;
+use crate::PlanarMeshError;
 
 /// A triangulation vertex: its position and its index in [`CdtInput::points`]
 /// ([`ADDED`] for a point the triangulation added).
@@ -54,8 +54,8 @@ pub(crate) struct CdtOutput {
 /// Triangulates `input`.
 ///
 /// # Errors
-/// [`MeshError::Triangulation`] when `spade` rejects a point (non-finite or out of range).
-pub(crate) fn triangulate(input: &CdtInput<'_>) -> Result<CdtOutput, MeshError> {
+/// [`PlanarMeshError::Triangulation`] when `spade` rejects a point (non-finite or out of range).
+pub(crate) fn triangulate(input: &CdtInput<'_>) -> Result<CdtOutput, PlanarMeshError> {
     let n = input.points.len();
     // The points in the order spade's bulk loading sorts them into.
     let order = bulk_load_order(input.points);
@@ -72,9 +72,9 @@ pub(crate) fn triangulate(input: &CdtInput<'_>) -> Result<CdtOutput, MeshError> 
     // The Delaunay triangulation first, then the constraints: most ring and outline edges
     // are Delaunay edges already and only get marked.
     let delaunay = DelaunayTriangulation::<Vertex>::bulk_load(vertices)
-        .map_err(|e| MeshError::Triangulation(e.to_string()))?;
+        .map_err(|e| PlanarMeshError::Triangulation(e.to_string()))?;
     if delaunay.num_vertices() != n {
-        return Err(MeshError::Triangulation(format!(
+        return Err(PlanarMeshError::Triangulation(format!(
             "{} of {} points are distinct",
             delaunay.num_vertices(),
             n

@@ -3,7 +3,7 @@
 /// Why a planar segment could not be simplified, meshed or textured.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[non_exhaustive]
-pub enum MeshError {
+pub enum PlanarMeshError {
     /// The segment has fewer than three points: there is no plane to fit.
     #[error("a planar segment needs at least 3 points, this one has {0}")]
     TooFewPoints(usize),

@@ -4,7 +4,7 @@
 
 use std::fmt::Write as _;
 
-use crate::MeshError;
+use crate::PlanarMeshError;
 use crate::merge::{MergedMesh, Packing};
 use crate::texture::Texture;
 
@@ -13,14 +13,14 @@ use crate::texture::Texture;
 /// (`atlas` for one atlas, `plane_<k>` per plane, `untextured` without textures).
 ///
 /// ```
-/// use planar_mesh::{export, merge, MeshOptions, Packing, Segment, simplify};
+/// use planar_mesh::{export, merge, SimplifyOptions, Packing, Segment, simplify};
 ///
 /// let points = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]];
-/// let plane = simplify(&Segment::new(&points, &points, &[]), &MeshOptions::new())?;
+/// let plane = simplify(&Segment::new(&points, &points, &[]), &SimplifyOptions::new())?;
 /// let obj = export::obj_text(&merge(&[(0, &plane)], Packing::Atlas), Some("out.mtl"));
 /// assert!(obj.starts_with("# planar-mesh"));
 /// assert_eq!(obj.lines().filter(|l| l.starts_with("f ")).count(), plane.triangles.len());
-/// # Ok::<(), planar_mesh::MeshError>(())
+/// # Ok::<(), planar_mesh::PlanarMeshError>(())
 /// ```
 pub fn obj_text(mesh: &MergedMesh, mtl_file: Option<&str>) -> String {
     let mut s = String::with_capacity(64 * mesh.vertices.len() + 48 * mesh.triangles.len());
@@ -176,10 +176,10 @@ pub fn vertex_colors(mesh: &MergedMesh, textures: &[Option<&Texture>]) -> Vec<[u
 /// PNG bytes of an RGB picture, row-major, top row first.
 ///
 /// # Errors
-/// [`MeshError::Png`] when `rgb` is not `3 × width × height` bytes or encoding fails.
-pub fn png_bytes(width: u32, height: u32, rgb: &[u8]) -> Result<Vec<u8>, MeshError> {
+/// [`PlanarMeshError::Png`] when `rgb` is not `3 × width × height` bytes or encoding fails.
+pub fn png_bytes(width: u32, height: u32, rgb: &[u8]) -> Result<Vec<u8>, PlanarMeshError> {
     if rgb.len() != 3 * width as usize * height as usize {
-        return Err(MeshError::Png(format!(
+        return Err(PlanarMeshError::Png(format!(
             "{} bytes for a {width} × {height} RGB picture",
             rgb.len()
         )));
@@ -191,10 +191,10 @@ pub fn png_bytes(width: u32, height: u32, rgb: &[u8]) -> Result<Vec<u8>, MeshErr
         encoder.set_depth(png::BitDepth::Eight);
         let mut writer = encoder
             .write_header()
-            .map_err(|e| MeshError::Png(e.to_string()))?;
+            .map_err(|e| PlanarMeshError::Png(e.to_string()))?;
         writer
             .write_image_data(rgb)
-            .map_err(|e| MeshError::Png(e.to_string()))?;
+            .map_err(|e| PlanarMeshError::Png(e.to_string()))?;
     }
     Ok(out)
 }

@@ -4,7 +4,7 @@
 use plane_geom::vec3::norm;
 use plane_geom::{PlaneFrame, symmetric_eigen};
 
-use crate::MeshError;
+use crate::PlanarMeshError;
 
 /// The least-squares plane of `points` by principal component analysis, as a frame:
 /// the normal is the eigenvector of the covariance with the smallest eigenvalue, `e1`
@@ -19,19 +19,19 @@ use crate::MeshError;
 /// assert!((frame.normal[2].abs() - 1.0).abs() < 1e-12);
 /// let back = frame.lift(frame.project([1.0, 1.0, 2.5]));
 /// assert!((back[2] - 2.0).abs() < 1e-12); // projected onto the plane
-/// # Ok::<(), planar_mesh::MeshError>(())
+/// # Ok::<(), planar_mesh::PlanarMeshError>(())
 /// ```
 ///
 /// # Errors
-/// [`MeshError::TooFewPoints`] below 3 points, [`MeshError::NonFinite`] for a NaN or
-/// infinite coordinate, [`MeshError::Degenerate`] when the points are collinear or
+/// [`PlanarMeshError::TooFewPoints`] below 3 points, [`PlanarMeshError::NonFinite`] for a NaN or
+/// infinite coordinate, [`PlanarMeshError::Degenerate`] when the points are collinear or
 /// coincide.
-pub fn fit_frame(points: &[[f64; 3]]) -> Result<PlaneFrame, MeshError> {
+pub fn fit_frame(points: &[[f64; 3]]) -> Result<PlaneFrame, PlanarMeshError> {
     if points.len() < 3 {
-        return Err(MeshError::TooFewPoints(points.len()));
+        return Err(PlanarMeshError::TooFewPoints(points.len()));
     }
     if let Some(index) = points.iter().position(|p| !p.iter().all(|v| v.is_finite())) {
-        return Err(MeshError::NonFinite {
+        return Err(PlanarMeshError::NonFinite {
             what: "point",
             index,
             value: points[index],
@@ -56,11 +56,11 @@ pub fn fit_frame(points: &[[f64; 3]]) -> Result<PlaneFrame, MeshError> {
         }
     }
     let [xx, xy, xz, yy, yz, zz] = sums.map(|v| v / n);
-    let eigen =
-        symmetric_eigen([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]]).ok_or(MeshError::Degenerate)?;
+    let eigen = symmetric_eigen([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]])
+        .ok_or(PlanarMeshError::Degenerate)?;
     let [_, middle, largest] = eigen.values;
     if largest <= 0.0 || middle <= largest * 1e-18 {
-        return Err(MeshError::Degenerate);
+        return Err(PlanarMeshError::Degenerate);
     }
     // The solver's eigenvectors are unit to rounding; they are normalised once more, by
     // division.
@@ -107,13 +107,16 @@ mod tests {
 
     #[test]
     fn bad_input_is_named() {
-        assert_eq!(fit_frame(&[[0.0; 3]; 2]), Err(MeshError::TooFewPoints(2)));
+        assert_eq!(
+            fit_frame(&[[0.0; 3]; 2]),
+            Err(PlanarMeshError::TooFewPoints(2))
+        );
         let line: Vec<[f64; 3]> = (0..5).map(|i| [f64::from(i), 0.0, 0.0]).collect();
-        assert_eq!(fit_frame(&line), Err(MeshError::Degenerate));
+        assert_eq!(fit_frame(&line), Err(PlanarMeshError::Degenerate));
         let nan = [[0.0; 3], [1.0, 0.0, 0.0], [0.0, f64::NAN, 0.0]];
         assert!(matches!(
             fit_frame(&nan),
-            Err(MeshError::NonFinite { index: 2, .. })
+            Err(PlanarMeshError::NonFinite { index: 2, .. })
         ));
     }
 }

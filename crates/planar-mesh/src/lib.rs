@@ -28,7 +28,7 @@
 //! This crate has no feature flags.
 //!
 //! ```
-//! use planar_mesh::{Method, MeshOptions, Segment, TextureOptions, simplify};
+//! use planar_mesh::{Method, SimplifyOptions, Segment, TextureOptions, simplify};
 //!
 //! // A 2 m × 1 m wall sampled every 2 cm, left half red, right half blue, with its outline.
 //! let (nx, ny) = (101, 51);
@@ -40,14 +40,14 @@
 //!     .map(|p| if p[0] < 1.0 { [255, 0, 0] } else { [0, 0, 255] })
 //!     .collect();
 //! let shell = [[0.0, 0.0, 0.0], [2.0, 0.0, 0.0], [2.0, 0.0, 1.0], [0.0, 0.0, 1.0]];
-//! let options = MeshOptions::new()
+//! let options = SimplifyOptions::new()
 //!     .with_method(Method::Point)
 //!     .with_texture(TextureOptions::new());
 //! let mesh = simplify(&Segment::new(&points, &shell, &[]).with_colors(&colors), &options)?;
 //! let texture = mesh.texture.as_ref().expect("asked for");
 //! assert_eq!((texture.width, texture.height), (200, 100)); // 100 texels per metre
 //! assert_eq!(mesh.uv.len(), mesh.vertices.len());
-//! # Ok::<(), planar_mesh::MeshError>(())
+//! # Ok::<(), planar_mesh::PlanarMeshError>(())
 //! ```
 
 #![forbid(unsafe_code)]
@@ -68,12 +68,14 @@ mod squares;
 mod texture;
 mod triangulate;
 
-pub use error::MeshError;
+pub use error::PlanarMeshError;
 pub use frame::fit_frame;
 pub use merge::{ATLAS_GUTTER, Atlas, MergedMesh, Packing, PlaneRange, merge};
 pub use plane_geom::PlaneFrame;
 pub use quadtree::{AUTO_CELL_EDGES, MAX_DEPTH};
-pub use simplify::{Depth, MeshOptions, PlaneMesh, PlaneStats, Segment, simplify, simplify_all};
+pub use simplify::{
+    Depth, PlaneMesh, PlaneStats, Segment, SimplifyOptions, simplify, simplify_all,
+};
 pub use texture::{DEFAULT_TEXELS_PER_UNIT, Resolution, Texture, TextureOptions};
 pub use triangulate::Method;
 

@@ -71,15 +71,15 @@ pub struct MergedMesh {
 /// atlas by shelves (tallest first) and maps the uv coordinates into it.
 ///
 /// ```
-/// use planar_mesh::{merge, MeshOptions, Packing, Segment, simplify};
+/// use planar_mesh::{merge, SimplifyOptions, Packing, Segment, simplify};
 ///
 /// let points = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]];
-/// let a = simplify(&Segment::new(&points, &points, &[]), &MeshOptions::new())?;
+/// let a = simplify(&Segment::new(&points, &points, &[]), &SimplifyOptions::new())?;
 /// let b = a.clone();
 /// let merged = merge(&[(0, &a), (1, &b)], Packing::Atlas);
 /// assert_eq!(merged.triangles.len(), 2 * a.triangles.len());
 /// assert_eq!(merged.planes[1].first_vertex as usize, a.vertices.len());
-/// # Ok::<(), planar_mesh::MeshError>(())
+/// # Ok::<(), planar_mesh::PlanarMeshError>(())
 /// ```
 pub fn merge(planes: &[(usize, &PlaneMesh)], packing: Packing) -> MergedMesh {
     let textured = !planes.is_empty() && planes.iter().all(|(_, p)| p.texture.is_some());

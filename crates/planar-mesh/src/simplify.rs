@@ -4,7 +4,7 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 
-use crate::MeshError;
+use crate::PlanarMeshError;
 use crate::frame::fit_frame;
 use crate::polygon::{Polygon2, ring_area};
 use crate::quadtree::{MAX_DEPTH, Quadtree, auto_depth};
@@ -58,7 +58,7 @@ pub enum Depth {
 /// Options of [`simplify`] and [`simplify_all`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[non_exhaustive]
-pub struct MeshOptions {
+pub struct SimplifyOptions {
     /// Triangulation method (default polygon-based).
     pub method: Method,
     /// Quadtree depth (default [`Depth::Auto`]).
@@ -80,7 +80,7 @@ pub struct MeshOptions {
     pub parallel: bool,
 }
 
-impl Default for MeshOptions {
+impl Default for SimplifyOptions {
     fn default() -> Self {
         Self {
             method: Method::default(),
@@ -93,7 +93,7 @@ impl Default for MeshOptions {
     }
 }
 
-impl MeshOptions {
+impl SimplifyOptions {
     /// The defaults: polygon-based, automatic depth, no clearance, no texture, parallel.
     pub fn new() -> Self {
         Self::default()
@@ -135,18 +135,18 @@ impl MeshOptions {
         self
     }
 
-    fn validate(&self) -> Result<(), MeshError> {
+    fn validate(&self) -> Result<(), PlanarMeshError> {
         if let Depth::Fixed(d) = self.depth
             && !(1..=MAX_DEPTH).contains(&d)
         {
-            return Err(MeshError::BadOption {
+            return Err(PlanarMeshError::BadOption {
                 name: "depth",
                 value: f64::from(d),
                 expected: "1 to 16",
             });
         }
         if !(self.clearance.is_finite() && (0.0..=4.0).contains(&self.clearance)) {
-            return Err(MeshError::BadOption {
+            return Err(PlanarMeshError::BadOption {
                 name: "clearance",
                 value: self.clearance,
                 expected: "0 to 4 finest cells",
@@ -213,12 +213,12 @@ pub struct PlaneMesh {
 
 /// The segment's polygon in the plane frame, with the frame flipped if needed so that the
 /// shell is counter-clockwise.
-fn plane_polygon(segment: &Segment<'_>) -> Result<(PlaneFrame, Polygon2), MeshError> {
+fn plane_polygon(segment: &Segment<'_>) -> Result<(PlaneFrame, Polygon2), PlanarMeshError> {
     for (what, ring) in std::iter::once(("shell vertex", segment.shell))
         .chain(segment.holes.iter().map(|h| ("hole vertex", h.as_slice())))
     {
         if let Some(index) = ring.iter().position(|p| !p.iter().all(|v| v.is_finite())) {
-            return Err(MeshError::NonFinite {
+            return Err(PlanarMeshError::NonFinite {
                 what,
                 index,
                 value: ring[index],
@@ -242,7 +242,7 @@ fn plane_polygon(segment: &Segment<'_>) -> Result<(PlaneFrame, Polygon2), MeshEr
             let mut distinct = ring.clone();
             distinct.sort_by(|a, b| a[0].total_cmp(&b[0]).then(a[1].total_cmp(&b[1])));
             distinct.dedup();
-            MeshError::EmptyShell {
+            PlanarMeshError::EmptyShell {
                 vertices: distinct.len(),
                 area: ring_area(&ring).abs(),
             }
@@ -268,7 +268,7 @@ impl PlaneMesh {
 /// triangulation by `options.method`, and the texture when asked for.
 ///
 /// ```
-/// use planar_mesh::{Method, MeshOptions, Segment, simplify};
+/// use planar_mesh::{Method, SimplifyOptions, Segment, simplify};
 ///
 /// // A 1 m square plane sampled every 1 cm, its outline as the polygon.
 /// let points: Vec<[f64; 3]> = (0..101 * 101)
@@ -279,28 +279,31 @@ impl PlaneMesh {
 ///     .chain((0..100).map(|i| [1.0 - i as f64 * 0.01, 1.0, 2.0]))
 ///     .chain((0..100).map(|i| [0.0, 1.0 - i as f64 * 0.01, 2.0]))
 ///     .collect();
-/// let mesh = simplify(&Segment::new(&points, &shell, &[]), &MeshOptions::new())?;
+/// let mesh = simplify(&Segment::new(&points, &shell, &[]), &SimplifyOptions::new())?;
 /// assert!((mesh.area() - 1.0).abs() < 1e-9);
 /// // Far fewer triangles than the 20,000 of the full grid.
 /// assert!(mesh.triangles.len() < 2_000);
-/// # Ok::<(), planar_mesh::MeshError>(())
+/// # Ok::<(), planar_mesh::PlanarMeshError>(())
 /// ```
 ///
 /// # Errors
 /// Bad options, too few or non-finite points, points spanning no plane, a shell without
 /// area, colours not one per point, a texture asked for without colours.
-pub fn simplify(segment: &Segment<'_>, options: &MeshOptions) -> Result<PlaneMesh, MeshError> {
+pub fn simplify(
+    segment: &Segment<'_>,
+    options: &SimplifyOptions,
+) -> Result<PlaneMesh, PlanarMeshError> {
     options.validate()?;
     if let Some(colors) = segment.colors
         && colors.len() != segment.points.len()
     {
-        return Err(MeshError::ColorCount {
+        return Err(PlanarMeshError::ColorCount {
             colors: colors.len(),
             points: segment.points.len(),
         });
     }
     if options.texture.is_some() && segment.colors.is_none() {
-        return Err(MeshError::NoColors);
+        return Err(PlanarMeshError::NoColors);
     }
     let start = Instant::now();
     let (frame, polygon) = plane_polygon(segment)?;
@@ -351,13 +354,13 @@ pub fn simplify(segment: &Segment<'_>, options: &MeshOptions) -> Result<PlaneMes
 /// independent: one that fails does not stop the others).
 pub fn simplify_all(
     segments: &[Segment<'_>],
-    options: &MeshOptions,
-) -> Vec<Result<PlaneMesh, MeshError>> {
+    options: &SimplifyOptions,
+) -> Vec<Result<PlaneMesh, PlanarMeshError>> {
     if options.parallel {
         // Largest first, so that a big plane does not start last.
         let mut order: Vec<usize> = (0..segments.len()).collect();
         order.sort_by_key(|&i| std::cmp::Reverse(segments[i].points.len()));
-        let mut done: Vec<(usize, Result<PlaneMesh, MeshError>)> = order
+        let mut done: Vec<(usize, Result<PlaneMesh, PlanarMeshError>)> = order
             .into_par_iter()
             .with_max_len(1)
             .map(|i| (i, simplify(&segments[i], options)))

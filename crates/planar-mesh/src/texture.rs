@@ -4,7 +4,7 @@
 
 use rayon::prelude::*;
 
-use crate::MeshError;
+use crate::PlanarMeshError;
 use crate::nearest::PointGrid;
 use crate::polygon::Polygon2;
 
@@ -74,18 +74,18 @@ impl TextureOptions {
         self
     }
 
-    pub(crate) fn validate(&self) -> Result<(), MeshError> {
+    pub(crate) fn validate(&self) -> Result<(), PlanarMeshError> {
         if let Resolution::PerUnit(r) = self.resolution
             && !(r.is_finite() && r > 0.0)
         {
-            return Err(MeshError::BadOption {
+            return Err(PlanarMeshError::BadOption {
                 name: "resolution",
                 value: r,
                 expected: "texels per unit length, finite and > 0",
             });
         }
         if self.max_size == 0 {
-            return Err(MeshError::BadOption {
+            return Err(PlanarMeshError::BadOption {
                 name: "max_size",
                 value: 0.0,
                 expected: "at least 1 texel",
@@ -168,13 +168,13 @@ fn texels_per_unit(options: &TextureOptions, polygon: &Polygon2, points: usize) 
 /// The texture of `polygon` from `points` (plane coordinates) and their `colors`.
 ///
 /// # Errors
-/// [`MeshError::TooFewPoints`] without points.
+/// [`PlanarMeshError::TooFewPoints`] without points.
 pub(crate) fn generate(
     polygon: &Polygon2,
     points: &[[f64; 2]],
     colors: &[[u8; 3]],
     options: &TextureOptions,
-) -> Result<Texture, MeshError> {
+) -> Result<Texture, PlanarMeshError> {
     let r = texels_per_unit(options, polygon, points.len());
     let [lo, hi] = polygon.bbox;
     let size = |span: f64| ((span * r).ceil().max(1.0) as u32).min(options.max_size.max(1));
@@ -212,7 +212,8 @@ pub(crate) fn generate(
     }
     // About two points per cell: a texel's search usually ends after the 3 × 3 cells
     // around it.
-    let grid = PointGrid::new(points, polygon.area(), 2.0).ok_or(MeshError::TooFewPoints(0))?;
+    let grid =
+        PointGrid::new(points, polygon.area(), 2.0).ok_or(PlanarMeshError::TooFewPoints(0))?;
     let mut rgb = std::mem::take(&mut texture.rgb);
     let centre = |col: usize, row: usize| texture.texel_center(col as u32, row as u32);
     rgb.par_chunks_mut(3 * w)

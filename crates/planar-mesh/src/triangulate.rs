@@ -3,7 +3,7 @@
 
 use std::collections::HashMap;
 
-use crate::MeshError;
+use crate::PlanarMeshError;
 use crate::cdt::{CdtInput, triangulate};
 use crate::outline::outline_segments;
 use crate::polygon::Polygon2;
@@ -69,7 +69,7 @@ pub(crate) fn triangulate_segment(
     tree: Option<&Quadtree>,
     method: Method,
     conforming: bool,
-) -> Result<Triangulated, MeshError> {
+) -> Result<Triangulated, PlanarMeshError> {
     let (mut vertices, ring_edges) = ring_graph(polygon);
     let boundary = vertices.len();
     let mut interior_triangles = 0;
@@ -121,7 +121,7 @@ fn polygon_based(
     polygon: &Polygon2,
     tree: &Quadtree,
     conforming: bool,
-) -> Result<(Vec<[u32; 3]>, usize), MeshError> {
+) -> Result<(Vec<[u32; 3]>, usize), PlanarMeshError> {
     let boundary = vertices.len() as u32;
     let lattice = |k: u64| {
         let (i, j) = unkey(k);

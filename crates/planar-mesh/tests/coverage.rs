@@ -9,10 +9,10 @@ mod common;
 use common::Case;
 use geo::{Area, Contains};
 use planar_mesh::quality::{Defect, defects, signed_area};
-use planar_mesh::{Depth, MeshOptions, Method, PlaneMesh, Segment, simplify};
+use planar_mesh::{Depth, Method, PlaneMesh, Segment, SimplifyOptions, simplify};
 use proptest::prelude::*;
 
-fn run(case: &Case, options: &MeshOptions) -> PlaneMesh {
+fn run(case: &Case, options: &SimplifyOptions) -> PlaneMesh {
     let points = case.points(0.2);
     let (shell, holes) = (case.shell3(), case.holes3());
     simplify(&Segment::new(&points, &shell, &holes), options).unwrap()
@@ -83,7 +83,7 @@ fn square_with_square_hole_has_known_area_and_counts() {
     for method in [Method::Point, Method::Polygon, Method::Boundary] {
         let mesh = run(
             &case,
-            &MeshOptions::new()
+            &SimplifyOptions::new()
                 .with_method(method)
                 .with_depth(Depth::Fixed(4)),
         );
@@ -111,7 +111,7 @@ proptest! {
     ) {
         let case = Case::new(&radii, &holes, tilt, origin);
         for method in [Method::Point, Method::Polygon, Method::Boundary] {
-            let options = MeshOptions::new()
+            let options = SimplifyOptions::new()
                 .with_method(method)
                 .with_depth(depth)
                 .with_clearance(clearance)

@@ -7,8 +7,8 @@ mod common;
 use common::Case;
 use geo::Contains;
 use planar_mesh::{
-    MeshError, MeshOptions, Method, Packing, PlaneMesh, Resolution, Segment, TextureOptions, merge,
-    simplify,
+    Method, Packing, PlanarMeshError, PlaneMesh, Resolution, Segment, SimplifyOptions,
+    TextureOptions, merge, simplify,
 };
 use proptest::prelude::*;
 
@@ -50,7 +50,7 @@ fn textured(
     let (shell, holes) = (case.shell3(), case.holes3());
     let mesh = simplify(
         &Segment::new(&points, &shell, &holes).with_colors(&colors),
-        &MeshOptions::new()
+        &SimplifyOptions::new()
             .with_method(Method::Point)
             .with_texture(options),
     )
@@ -160,23 +160,23 @@ fn bad_input_gets_a_clear_error() {
     let points = case.points(0.5);
     let shell = case.shell3();
     let segment = Segment::new(&points, &shell, &[]);
-    let texture = MeshOptions::new().with_texture(TextureOptions::new());
-    assert_eq!(simplify(&segment, &texture), Err(MeshError::NoColors));
+    let texture = SimplifyOptions::new().with_texture(TextureOptions::new());
+    assert_eq!(simplify(&segment, &texture), Err(PlanarMeshError::NoColors));
     let few = vec![[0u8; 3]; 3];
     assert!(matches!(
         simplify(&segment.with_colors(&few), &texture),
-        Err(MeshError::ColorCount { colors: 3, .. })
+        Err(PlanarMeshError::ColorCount { colors: 3, .. })
     ));
-    let deep = MeshOptions::new().with_depth(planar_mesh::Depth::Fixed(17));
+    let deep = SimplifyOptions::new().with_depth(planar_mesh::Depth::Fixed(17));
     assert!(matches!(
         simplify(&segment, &deep),
-        Err(MeshError::BadOption { name: "depth", .. })
+        Err(PlanarMeshError::BadOption { name: "depth", .. })
     ));
-    let r = MeshOptions::new()
+    let r = SimplifyOptions::new()
         .with_texture(TextureOptions::new().with_resolution(Resolution::PerUnit(-1.0)));
     assert!(matches!(
         simplify(&segment.with_colors(&colours(points.len(), 3)), &r),
-        Err(MeshError::BadOption {
+        Err(PlanarMeshError::BadOption {
             name: "resolution",
             ..
         })
@@ -185,15 +185,15 @@ fn bad_input_gets_a_clear_error() {
     assert!(matches!(
         simplify(
             &Segment::new(&points, &flat_shell, &[]),
-            &MeshOptions::new()
+            &SimplifyOptions::new()
         ),
-        Err(MeshError::EmptyShell { .. })
+        Err(PlanarMeshError::EmptyShell { .. })
     ));
     let mut nan = shell.clone();
     nan[2][1] = f64::NAN;
     assert!(matches!(
-        simplify(&Segment::new(&points, &nan, &[]), &MeshOptions::new()),
-        Err(MeshError::NonFinite {
+        simplify(&Segment::new(&points, &nan, &[]), &SimplifyOptions::new()),
+        Err(PlanarMeshError::NonFinite {
             what: "shell vertex",
             index: 2,
             ..

@@ -9,7 +9,7 @@ use std::time::Instant;
 use clap::{Args, ValueEnum};
 use polylidar::io::{CameraSource, DepthCamera};
 use polylidar::planar_mesh::{
-    Depth, MergedMesh, MeshOptions, Method, Packing, Resolution, TextureOptions, export,
+    Depth, MergedMesh, Method, Packing, Resolution, SimplifyOptions, TextureOptions, export,
 };
 use polylidar::{Extraction, Intrinsics, Polylidar};
 use polylidar_io::{ColorImage, Format};
@@ -175,8 +175,8 @@ pub fn mesh(args: &MeshArgs) -> Result<Outcome, CliError> {
     Ok(Outcome::Done)
 }
 
-fn mesh_options(args: &MeshArgs) -> Result<MeshOptions, CliError> {
-    let mut options = MeshOptions::new()
+fn mesh_options(args: &MeshArgs) -> Result<SimplifyOptions, CliError> {
+    let mut options = SimplifyOptions::new()
         .with_method(args.method.into())
         .with_conforming(args.conforming);
     if let Some(d) = args.depth {

@@ -58,7 +58,7 @@ pub enum CliError {
     Metrics(#[from] seg_metrics::MetricsError),
     /// A plane could not be meshed or textured.
     #[error(transparent)]
-    Mesh(#[from] polylidar::planar_mesh::MeshError),
+    Mesh(#[from] polylidar::planar_mesh::PlanarMeshError),
     /// An output file could not be written.
     #[error("cannot write {path}: {message}")]
     Write {

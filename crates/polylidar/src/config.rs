@@ -2,7 +2,7 @@
 
 use fastga::FastGaConfig;
 use mesh_smooth_gpu::{BilateralOptions, LaplacianOptions, SmoothError};
-use opc_mesh::{FillOptions, OpcError};
+use opc_mesh::{FillConfig, OpcError};
 use planeseg::SegmentationConfig;
 use polypost::PostprocessConfig;
 use serde::{Deserialize, Serialize};
@@ -122,7 +122,7 @@ pub struct Config {
     /// [`opc_mesh::OrganizedPointCloud::fill_missing`]); their labels stay `-1` in
     /// [`crate::Extraction::point_labels`] and [`crate::Extraction::plane_labels`], as the
     /// input has no measurement there. Absent = off.
-    pub fill_missing: Option<FillOptions>,
+    pub fill_missing: Option<FillConfig>,
     /// Unorganized clouds: treat the cloud as one frame of a rotating LiDAR (thinning,
     /// beam outliers, optionally the range image; see [`ScanConfig`] and
     /// [`crate::Polylidar::extract_scan`]); absent = the points are taken as given.
@@ -566,7 +566,7 @@ impl Config {
     }
 
     /// Sets [`Config::fill_missing`] (`None`: missing returns stay missing).
-    pub fn with_fill_missing(mut self, fill_missing: Option<FillOptions>) -> Self {
+    pub fn with_fill_missing(mut self, fill_missing: Option<FillConfig>) -> Self {
         self.fill_missing = fill_missing;
         self
     }
@@ -947,7 +947,7 @@ mod tests {
         use crate::{BeamOutlierConfig, FieldOfViewConfig, UnorganizedConfig};
         let scan = |s: ScanConfig| Config::new().with_scan(Some(s));
         let unorganized = |u: UnorganizedConfig| Config::new().with_unorganized(Some(u));
-        let fill = |f: FillOptions| Config::new().with_fill_missing(Some(f));
+        let fill = |f: FillConfig| Config::new().with_fill_missing(Some(f));
         let cases = [
             (Config::new().with_alpha(-1.0), "alpha"),
             (Config::new().with_z_thresh(f64::NAN), "z_thresh"),
@@ -965,11 +965,11 @@ mod tests {
                 "bilateral.sigma_angle",
             ),
             (
-                fill(FillOptions::default().with_min_neighbours(9)),
+                fill(FillConfig::default().with_min_neighbours(9)),
                 "fill_missing.min_neighbours",
             ),
             (
-                fill(FillOptions::default().with_max_spread(f64::NAN)),
+                fill(FillConfig::default().with_max_spread(f64::NAN)),
                 "fill_missing.max_spread",
             ),
             (

@@ -86,7 +86,7 @@ pub use mesh_smooth_gpu::{
     predict_laplacian_iterations,
 };
 pub use opc_mesh::{
-    DepthOptions, FillOptions, Intrinsics, OpcError, OrganizedPointCloud, OrganizedPointCloudView,
+    DepthOptions, FillConfig, Intrinsics, OpcError, OrganizedPointCloud, OrganizedPointCloudView,
 };
 // The stage configurations the facade's `Config` holds as they are (their `serde`
 // features give them their TOML form).

@@ -5,7 +5,7 @@
 use std::time::Instant;
 
 use planar_mesh::{
-    MergedMesh, MeshError, MeshOptions, Packing, PlaneMesh, Segment, merge, simplify_all,
+    MergedMesh, Packing, PlanarMeshError, PlaneMesh, Segment, SimplifyOptions, merge, simplify_all,
 };
 use rayon::prelude::*;
 
@@ -20,7 +20,7 @@ pub struct PlanarMeshes {
     /// `(polygon index, its mesh)` for every polygon that could be meshed, in polygon order.
     pub planes: Vec<(usize, PlaneMesh)>,
     /// `(polygon index, why)` for every polygon that could not.
-    pub skipped: Vec<(usize, MeshError)>,
+    pub skipped: Vec<(usize, PlanarMeshError)>,
     /// Seconds from the extraction to the meshes: gathering each plane's points, then
     /// decimation, triangulation and textures.
     pub seconds: f64,
@@ -71,15 +71,15 @@ impl Extraction {
     /// vertices of its triangles, its concave hull the polygon with holes. `colors`, one
     /// per vertex of [`Extraction::mesh`] (for an organized cloud: per pixel, row-major),
     /// are needed for textures. Planes run in parallel on rayon's current pool (see
-    /// [`MeshOptions::parallel`]).
+    /// [`SimplifyOptions::parallel`]).
     ///
     /// ```
     /// use polylidar::{Config, Polylidar};
-    /// use polylidar::planar_mesh::{MeshOptions, Packing};
+    /// use polylidar::planar_mesh::{SimplifyOptions, Packing};
     ///
     /// let points: Vec<[f64; 2]> = (0..900).map(|i| [(i % 30) as f64, (i / 30) as f64]).collect();
     /// let extraction = Polylidar::new(Config::new().with_alpha(1.0))?.extract_2d(&points)?;
-    /// let meshes = extraction.planar_meshes(None, &MeshOptions::new())?;
+    /// let meshes = extraction.planar_meshes(None, &SimplifyOptions::new())?;
     /// assert_eq!(meshes.planes.len(), 1);
     /// // The 29 × 29 square: far fewer triangles than the 1,682 of the full grid.
     /// assert!(meshes.num_triangles() < 400);
@@ -88,26 +88,26 @@ impl Extraction {
     /// ```
     ///
     /// # Errors
-    /// [`MeshError::ColorCount`] when `colors` is not one per mesh vertex;
-    /// [`MeshError::NoColors`] when the options ask for a texture without colours; bad
+    /// [`PlanarMeshError::ColorCount`] when `colors` is not one per mesh vertex;
+    /// [`PlanarMeshError::NoColors`] when the options ask for a texture without colours; bad
     /// options. A polygon that cannot be meshed is listed in [`PlanarMeshes::skipped`].
     pub fn planar_meshes(
         &self,
         colors: Option<&[[u8; 3]]>,
-        options: &MeshOptions,
-    ) -> Result<PlanarMeshes, MeshError> {
+        options: &SimplifyOptions,
+    ) -> Result<PlanarMeshes, PlanarMeshError> {
         let start = Instant::now();
         let vertices = self.mesh.vertices();
         if let Some(c) = colors
             && c.len() != vertices.len()
         {
-            return Err(MeshError::ColorCount {
+            return Err(PlanarMeshError::ColorCount {
                 colors: c.len(),
                 points: vertices.len(),
             });
         }
         if options.texture.is_some() && colors.is_none() {
-            return Err(MeshError::NoColors);
+            return Err(PlanarMeshError::NoColors);
         }
         let ids = self.polygon_vertices();
         let gathered: Vec<Gathered> = ids

@@ -9,7 +9,7 @@ use polypost::PostprocessConfig;
 
 use crate::{
     BeamOutlierConfig, BilateralConfig, Config, DominantNormalsConfig, FieldOfViewConfig,
-    FillOptions, LaplacianConfig, LaplacianIterations, ScanConfig,
+    FillConfig, LaplacianConfig, LaplacianIterations, ScanConfig,
 };
 
 /// A named parameter set: the papers' (their tables) and ours (beyond them). Lengths are
@@ -198,7 +198,7 @@ impl Preset {
                     norm_thresh: 0.95,
                     min_hole_vertices: 50,
                     refine: adaptive,
-                    fill_missing: (self == Preset::RgbdAuto).then(FillOptions::default),
+                    fill_missing: (self == Preset::RgbdAuto).then(FillConfig::default),
                     ..base
                 }
             }

@@ -1,7 +1,7 @@
 //! Missing returns filled before meshing (`Config::fill_missing`, on in `rgbd-auto`).
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-use polylidar::{Config, FillOptions, OrganizedPointCloud, Polylidar};
+use polylidar::{Config, FillConfig, OrganizedPointCloud, Polylidar};
 
 /// A 60 × 80 depth-camera view of a wall 2 m away, tilted 30° about the vertical, with a
 /// third of its pixels missing at random (as at grazing incidence).
@@ -38,7 +38,7 @@ fn config(fill: bool) -> Config {
         .with_min_triangles(500)
         .with_z_thresh(0.05)
         .with_threads(2)
-        .with_fill_missing(fill.then(FillOptions::default))
+        .with_fill_missing(fill.then(FillConfig::default))
 }
 
 #[test]
@@ -87,7 +87,7 @@ fn a_wall_riddled_with_missing_returns_is_one_plane_once_filled() {
 fn fill_settings_are_checked() {
     for (min_neighbours, max_spread) in [(0, 0.03), (9, 0.03), (4, -0.1), (4, f64::NAN)] {
         let config = config(false).with_fill_missing(Some(
-            FillOptions::default()
+            FillConfig::default()
                 .with_min_neighbours(min_neighbours)
                 .with_max_spread(max_spread),
         ));
@@ -95,6 +95,6 @@ fn fill_settings_are_checked() {
         assert!(error.to_string().contains("fill_missing"), "{error}");
     }
     let preset = Config::preset("rgbd-auto").unwrap();
-    assert_eq!(preset.fill_missing, Some(FillOptions::default()));
+    assert_eq!(preset.fill_missing, Some(FillConfig::default()));
     assert_eq!(Config::preset("synpeb-auto").unwrap().fill_missing, None);
 }

@@ -314,12 +314,12 @@ impl DepthCameraKind {
 /// Scan with [`Scene::scan_depth`]; as a plain [`Sensor`] ([`Scene::scan`]) it is the
 /// error-free pinhole camera.
 #[derive(Debug, Clone, PartialEq)]
-pub struct DepthCamera {
+pub struct SimulatedDepthCamera {
     camera: PinholeCamera,
     model: DepthModel,
 }
 
-impl DepthCamera {
+impl SimulatedDepthCamera {
     /// A depth camera from its pinhole geometry and error model.
     ///
     /// # Errors
@@ -366,7 +366,7 @@ impl DepthCamera {
     }
 }
 
-impl Sensor for DepthCamera {
+impl Sensor for SimulatedDepthCamera {
     fn rows(&self) -> usize {
         self.camera.rows()
     }
@@ -396,8 +396,12 @@ impl Scene {
     /// result is the same at any thread count.
     ///
     /// # Errors
-    /// None for a camera built by [`DepthCamera::new`] (its model is checked there).
-    pub fn scan_depth(&self, camera: &DepthCamera, seed: u64) -> Result<ScanResult, SceneError> {
+    /// None for a camera built by [`SimulatedDepthCamera::new`] (its model is checked there).
+    pub fn scan_depth(
+        &self,
+        camera: &SimulatedDepthCamera,
+        seed: u64,
+    ) -> Result<ScanResult, SceneError> {
         let model = camera.model();
         model.validate()?;
         let (rows, cols) = (camera.rows(), camera.cols());

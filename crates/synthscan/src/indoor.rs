@@ -4,7 +4,7 @@ use rand::rngs::Xoshiro256PlusPlus;
 use rand::{RngExt, SeedableRng};
 
 use crate::builders::add_shell;
-use crate::depth::{DepthCamera, DepthCameraKind};
+use crate::depth::{DepthCameraKind, SimulatedDepthCamera};
 use crate::error::{SceneError, non_negative, positive};
 use crate::scene::Scene;
 use crate::sensor::Pose;
@@ -505,7 +505,10 @@ impl Scene {
 ///
 /// # Errors
 /// None in practice; kept for the builders it calls.
-pub fn rgbd_like(seed: u64, kind: DepthCameraKind) -> Result<(Scene, DepthCamera), SceneError> {
+pub fn rgbd_like(
+    seed: u64,
+    kind: DepthCameraKind,
+) -> Result<(Scene, SimulatedDepthCamera), SceneError> {
     let mut config = IndoorConfig::random(seed);
     let (scene, pose) = loop {
         match Scene::indoor(&config) {
@@ -525,5 +528,5 @@ pub fn rgbd_like(seed: u64, kind: DepthCameraKind) -> Result<(Scene, DepthCamera
             other => break other?,
         }
     };
-    Ok((scene, DepthCamera::preset(kind)?.with_pose(pose)))
+    Ok((scene, SimulatedDepthCamera::preset(kind)?.with_pose(pose)))
 }

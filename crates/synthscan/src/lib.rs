@@ -15,7 +15,7 @@
 //!   unorganized points on chosen faces.
 //! * [`synpeb_like`] gives a SynPEB-like benchmark frame: a random room and a 500 × 500
 //!   spherical sensor.
-//! * RGB-D: a [`DepthCamera`] is a pinhole camera with the [`DepthModel`] of a Kinect v1 or
+//! * RGB-D: a [`SimulatedDepthCamera`] is a pinhole camera with the [`DepthModel`] of a Kinect v1 or
 //!   RealSense D435 (depth noise `a + b·z²`, disparity quantisation, missing returns at
 //!   grazing incidence, depth edges, baseline shadows and outside the range), scanned by
 //!   [`Scene::scan_depth`]; [`rgbd_like`] gives a furnished room ([`Scene::indoor`]) and
@@ -81,7 +81,7 @@ pub use builders::{
     TableConfig,
 };
 pub use city::{Building, City, CityConfig, CityError, CityTile, RoofKind, RoofPlane};
-pub use depth::{DepthCamera, DepthCameraKind, DepthModel, MAX_EDGE_BAND};
+pub use depth::{DepthCameraKind, DepthModel, MAX_EDGE_BAND, SimulatedDepthCamera};
 pub use error::SceneError;
 pub use face::Face;
 pub use indoor::{IndoorConfig, rgbd_like};

@@ -3,8 +3,8 @@
 //! determinism, and the `rgbd_like` frames.
 
 use synthscan::{
-    DepthCamera, DepthCameraKind, DepthModel, PinholeCamera, Polygon3, Pose, ScanResult, Scene,
-    SceneError, Sensor, rgbd_like,
+    DepthCameraKind, DepthModel, PinholeCamera, Polygon3, Pose, ScanResult, Scene, SceneError,
+    Sensor, SimulatedDepthCamera, rgbd_like,
 };
 
 fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
@@ -23,13 +23,18 @@ fn plate(x0: f64, cy: f64, cz: f64, h: f64) -> Polygon3 {
 }
 
 /// A camera at the origin looking along world `+x` (camera right = world `−y`).
-fn camera(rows: usize, cols: usize, f: f64, model: DepthModel) -> Result<DepthCamera, SceneError> {
+fn camera(
+    rows: usize,
+    cols: usize,
+    f: f64,
+    model: DepthModel,
+) -> Result<SimulatedDepthCamera, SceneError> {
     let pose = Pose::look_at([0.0; 3], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0])?;
-    Ok(DepthCamera::new(PinholeCamera::new(rows, cols, f, f)?, model)?.with_pose(pose))
+    Ok(SimulatedDepthCamera::new(PinholeCamera::new(rows, cols, f, f)?, model)?.with_pose(pose))
 }
 
 /// Depth along the camera's optical axis of every pixel (NaN where none).
-fn depths(scan: &ScanResult, camera: &DepthCamera) -> Vec<f64> {
+fn depths(scan: &ScanResult, camera: &SimulatedDepthCamera) -> Vec<f64> {
     let pose = camera.pose();
     let forward = pose.rotate([0.0, 0.0, 1.0]);
     let o = pose.translation();
@@ -184,7 +189,8 @@ fn returns_go_missing_at_grazing_incidence() -> Result<(), SceneError> {
         [1.0, 0.0, 1.0 - 20f64.to_radians().tan()],
         [0.0, 0.0, 1.0],
     )?;
-    let cam = DepthCamera::new(PinholeCamera::new(120, 160, 130.0, 130.0)?, model)?.with_pose(pose);
+    let cam = SimulatedDepthCamera::new(PinholeCamera::new(120, 160, 130.0, 130.0)?, model)?
+        .with_pose(pose);
     let scan = scene.scan_depth(&cam, 5)?;
     let (mut low, mut high) = ([0usize; 2], [0usize; 2]); // [kept, dropped]
     for row in 0..cam.rows() {
@@ -456,7 +462,7 @@ fn presets_and_validation() -> Result<(), SceneError> {
         assert_eq!(full.size().1, 2 * half.size().1);
         assert_eq!(full.focal(), 2.0 * half.focal());
         assert_eq!(full.model(), half.model());
-        DepthCamera::preset(full)?;
+        SimulatedDepthCamera::preset(full)?;
     }
     // Khoshelham & Elberink: about 7 cm between depth levels at 5 m for the Kinect.
     assert!((DepthModel::kinect_v1().depth_step(5.0) - 0.07).abs() < 0.005);
@@ -486,7 +492,7 @@ fn presets_and_validation() -> Result<(), SceneError> {
         },
     ] {
         assert!(matches!(
-            DepthCamera::new(cam.clone(), bad),
+            SimulatedDepthCamera::new(cam.clone(), bad),
             Err(SceneError::InvalidParameter { .. })
         ));
     }

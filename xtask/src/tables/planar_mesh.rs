@@ -6,7 +6,7 @@
 
 use std::fmt::Write as _;
 
-use polylidar::planar_mesh::{MeshOptions, Method, PlaneMesh, TextureOptions, quality};
+use polylidar::planar_mesh::{Method, PlaneMesh, SimplifyOptions, TextureOptions, quality};
 use polylidar::{Config, DepthOptions, Extraction, Intrinsics, OrganizedPointCloud, Polylidar};
 
 use crate::bench::Ctx;
@@ -102,7 +102,7 @@ fn load(ctx: &Ctx, notes: &mut String) -> Result<Vec<Dataset>> {
     Ok(out)
 }
 
-fn meshes(d: &Dataset, options: &MeshOptions) -> Result<Vec<PlaneMesh>> {
+fn meshes(d: &Dataset, options: &SimplifyOptions) -> Result<Vec<PlaneMesh>> {
     let colors = options.texture.is_some().then_some(d.colors.as_slice());
     let m = d.extraction.planar_meshes(colors, options)?;
     Ok(m.planes.into_iter().map(|(_, p)| p).collect())
@@ -165,7 +165,7 @@ pub fn run(ctx: &Ctx) -> Result<Section> {
             .sum();
         row2.push(full.to_string());
         for (k, (method, conforming, _)) in METHODS.iter().enumerate() {
-            let options = MeshOptions::new()
+            let options = SimplifyOptions::new()
                 .with_method(*method)
                 .with_conforming(*conforming);
             let planes = meshes(d, &options)?;
@@ -363,7 +363,7 @@ fn timing_table(ctx: &Ctx, data: &[Dataset], body: &mut String) -> Result<()> {
     ];
     let mut frame_textured = Vec::new();
     for (name, method, textured, threads) in rows {
-        let mut options = MeshOptions::new()
+        let mut options = SimplifyOptions::new()
             .with_method(method)
             .with_parallel(threads > 1);
         if textured {
