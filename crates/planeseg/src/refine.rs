@@ -153,28 +153,35 @@ impl PlaneSums {
         })
     }
 
-    /// The least-squares plane of the triangle centroids (area-weighted): the normal is
-    /// the covariance's eigenvector of the smallest eigenvalue, turned to the side of the
-    /// vector area. `None` without area, or when the spread is too thin across to fix the
-    /// normal (the middle eigenvalue below [`FIT_CONDITION`] times the smallest).
-    fn fitted(&self) -> Option<Plane> {
-        let area_normal = unit(self.area)?;
+    /// The area-weighted centroid of the triangle centroids and their covariance
+    /// `[xx, xy, xz, yy, yz, zz]`; `None` without area.
+    fn moments(&self) -> Option<(Vec3, [f64; 6])> {
         if self.weight <= 0.0 {
             return None;
         }
         let w = self.weight;
         let c = scale(self.first, 1.0 / w);
         let s = &self.second;
-        let (xx, xy, xz) = (
-            s[0] / w - c[0] * c[0],
-            s[1] / w - c[0] * c[1],
-            s[2] / w - c[0] * c[2],
-        );
-        let (yy, yz, zz) = (
-            s[3] / w - c[1] * c[1],
-            s[4] / w - c[1] * c[2],
-            s[5] / w - c[2] * c[2],
-        );
+        Some((
+            c,
+            [
+                s[0] / w - c[0] * c[0],
+                s[1] / w - c[0] * c[1],
+                s[2] / w - c[0] * c[2],
+                s[3] / w - c[1] * c[1],
+                s[4] / w - c[1] * c[2],
+                s[5] / w - c[2] * c[2],
+            ],
+        ))
+    }
+
+    /// The least-squares plane of the triangle centroids (area-weighted): the normal is
+    /// the covariance's eigenvector of the smallest eigenvalue, turned to the side of the
+    /// vector area. `None` without area, or when the spread is too thin across to fix the
+    /// normal (the middle eigenvalue below [`FIT_CONDITION`] times the smallest).
+    fn fitted(&self) -> Option<Plane> {
+        let area_normal = unit(self.area)?;
+        let (c, [xx, xy, xz, yy, yz, zz]) = self.moments()?;
         let e = plane_geom::symmetric_eigen([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]])?;
         // Also refuses a line of centroids (both eigenvalues 0); the values are finite.
         if e.values[1] <= FIT_CONDITION * e.values[0].max(0.0) {
@@ -200,20 +207,9 @@ impl PlaneSums {
     /// Width over length of the triangles' spread within `plane` (√ of the smaller over
     /// the larger in-plane variance): near 0 for a strip, 1 for a disc or a square.
     fn aspect(&self, plane: &Plane) -> f64 {
-        if self.weight <= 0.0 {
+        let Some((_, cov)) = self.moments() else {
             return 0.0;
-        }
-        let w = self.weight;
-        let c = scale(self.first, 1.0 / w);
-        let s = &self.second;
-        let cov = [
-            s[0] / w - c[0] * c[0],
-            s[1] / w - c[0] * c[1],
-            s[2] / w - c[0] * c[2],
-            s[3] / w - c[1] * c[1],
-            s[4] / w - c[1] * c[2],
-            s[5] / w - c[2] * c[2],
-        ];
+        };
         // The covariance projected onto the plane, (I − nnᵀ) C (I − nnᵀ), has eigenvalues
         // 0, a, b: a + b is its trace and a·b the sum of its principal 2 × 2 minors.
         let n = plane.normal;
