@@ -6,7 +6,7 @@
 //! * [`estimate_normals`] / [`plane_normal`]: the normal of the plane that fits each
 //!   neighbourhood best (principal component analysis: the eigenvector of the smallest
 //!   eigenvalue of the covariance, in closed form);
-//! * [`orient`]: normals flipped towards a viewpoint (the sensor) or into the half-space
+//! * [`orient()`]: normals flipped towards a viewpoint (the sensor) or into the half-space
 //!   of a direction (up, for airborne data);
 //! * [`voxel_downsample`]: one representative point per voxel, for dense clouds;
 //! * [`neighbourhood_noise`]: how noisy the surfaces are, relative to the point spacing,

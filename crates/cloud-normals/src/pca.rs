@@ -48,7 +48,7 @@ pub fn plane_normal(points: impl Iterator<Item = [f64; 3]> + Clone) -> Option<([
 }
 
 /// PCA normals of every point from its [`Neighbours`] (unit, sign arbitrary until
-/// [`crate::orient`]); `[0, 0, 0]` where the neighbourhood has no unique plane (collinear
+/// [`crate::orient()`]); `[0, 0, 0]` where the neighbourhood has no unique plane (collinear
 /// or coincident neighbours). Computed in parallel; the result does not depend on the
 /// thread count.
 ///

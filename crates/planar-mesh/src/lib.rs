@@ -3,7 +3,7 @@
 //! each planar segment of a dense cloud becomes a small triangle mesh with a texture.
 //!
 //! For one segment — its points, optional colours, and its boundary polygon with holes
-//! (for example from Polylidar3D) — [`simplify`] runs the paper's steps:
+//! (for example from Polylidar3D) — [`simplify()`] runs the paper's steps:
 //!
 //! 1. **preprocessing** (§IV-A1): least-squares plane by PCA ([`fit_frame`]) and the
 //!    transform into its x-y frame; the polygon serves as the concave hull;
@@ -21,7 +21,7 @@
 //!    inside the polygon coloured by its nearest point (a uniform grid of the points), and uv
 //!    coordinates for every vertex.
 //!
-//! Planes are independent: [`simplify_all`] runs them on rayon's pool, and [`merge`] makes
+//! Planes are independent: [`simplify_all`] runs them on rayon's pool, and [`merge()`] makes
 //! one mesh of them with one texture atlas; [`export`] writes OBJ + MTL, PLY and PNG bytes.
 //! [`quality`] measures triangle angles and checks the invariants the tests rely on.
 //!

@@ -5,7 +5,7 @@
 //! can claim any number of fields. Every reader of this crate therefore computes, from the
 //! header alone, the bytes it will allocate and the bytes the polylidar pipeline will need
 //! for the cloud and mesh built from the points ([`Limits::pipeline_bytes_per_point`]), and
-//! returns [`ErrorKind::OverBudget`](crate::ErrorKind::OverBudget) when the sum exceeds
+//! returns [`crate::ErrorKind::OverBudget`] when the sum exceeds
 //! [`Limits::max_memory`]. Files are read with a bound too: a FIFO or `/dev/zero` is read
 //! up to the budget and refused past it, never until memory runs out.
 //!

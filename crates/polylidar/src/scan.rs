@@ -54,7 +54,7 @@ impl FieldOfViewConfig {
 /// Treat an unorganized cloud as one frame of a rotating LiDAR (a Velodyne as in KITTI):
 /// thin it and drop beam outliers before extraction (§9.2.2), and optionally rebuild its
 /// range image for the organized 3D path. Used by [`Polylidar::extract_scan`], and by
-/// [`Polylidar::extract`] for clouds when [`crate::Config::scan`] is set;
+/// `Polylidar::extract` (feature `io`) for clouds when [`crate::Config::scan`] is set;
 /// [`Polylidar::extract_25d`] always takes the points as given.
 ///
 /// ```

@@ -20,7 +20,7 @@ impl fmt::Display for Labels {
     }
 }
 
-/// Why [`evaluate`](crate::evaluate) refused its input.
+/// Why [`evaluate`](crate::evaluate()) refused its input.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[non_exhaustive]
 pub enum MetricsError {

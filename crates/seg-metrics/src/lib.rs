@@ -4,7 +4,7 @@
 //! missed and spurious planes, the percentages `f` and `k`, and the plane-fit RMSE.
 //!
 //! Each point carries a ground-truth label and a predicted label (`i32`, −1 = no plane;
-//! ids need not be dense). [`evaluate`] returns an [`Evaluation`]; [`fit_plane`] and
+//! ids need not be dense). [`evaluate()`] returns an [`Evaluation`]; [`fit_plane`] and
 //! [`fit_plane_rmse`] are the least-squares plane fit behind the RMSE.
 //!
 //! ```
@@ -115,7 +115,7 @@
 //! counts in its segment's `|S|` (it makes the segment less pure); a point labelled −1 in
 //! the prediction but not in the ground truth counts in its plane's `|G|` (it makes the
 //! plane less covered). Points with NaN or infinite coordinates (missing returns) are
-//! allowed only with −1 in both arrays; otherwise [`evaluate`] fails with
+//! allowed only with −1 in both arrays; otherwise [`evaluate()`] fails with
 //! [`MetricsError::NonFinitePoint`] rather than silently dropping them.
 
 #![deny(rustdoc::broken_intra_doc_links)]

@@ -1,7 +1,7 @@
 //! Smoothing of general half-edge meshes (user meshes, Delaunay meshes), in `f64` with
 //! rayon; results are identical at any thread count.
 //!
-//! * [`laplacian`]: `v' = v + λ (Σ w_j v_j / Σ w_j − v)` over the 1-ring vertex neighbours,
+//! * [`laplacian()`]: `v' = v + λ (Σ w_j v_j / Σ w_j − v)` over the 1-ring vertex neighbours,
 //!   with uniform or inverse-distance weights ([`Weighting`]);
 //! * [`taubin`]: alternating λ and μ Laplacian steps (λ > 0 > μ, |μ| > λ), which smooths
 //!   without the shrinkage of repeated Laplacian steps;
