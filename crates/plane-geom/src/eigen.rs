@@ -114,6 +114,7 @@ pub fn symmetric_eigenvalues(a: [f64; 6]) -> [f64; 3] {
 /// assert!(ratio < 1e-12);
 /// # Ok::<(), &str>(())
 /// ```
+#[inline]
 pub fn smallest_eigenvector(c: [f64; 6]) -> Option<([f64; 3], f64)> {
     let [xx, yy, zz, xy, xz, yz] = c;
     let trace = xx + yy + zz;
