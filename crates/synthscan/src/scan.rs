@@ -8,7 +8,9 @@ use crate::bvh::Bvh;
 use crate::error::{SceneError, non_negative};
 use crate::scene::{GroundTruthPlane, Scene};
 use crate::sensor::Sensor;
-use crate::vec3::{add, axpy, normalize, perpendicular_basis, scale};
+use plane_geom::PlaneFrame;
+
+use crate::vec3::{add, axpy, normalize, scale};
 
 /// Sensor noise, deterministic by seed.
 ///
@@ -162,7 +164,10 @@ impl Scene {
                     };
                     let dr = noise.radial_sigma * z0;
                     let beam = if tangential_rad > 0.0 {
-                        let (e1, e2) = perpendicular_basis(dir);
+                        // The beam's perpendicular axes, as the scenes have always drawn
+                        // their divergence along them: the workspace frame's (e2, −e1).
+                        let frame = PlaneFrame::from_unit_normal(dir);
+                        let (e1, e2) = (frame.e2, scale(frame.e1, -1.0));
                         let a = (tangential_rad * z1).tan();
                         let b = (tangential_rad * z2).tan();
                         normalize(add(dir, add(scale(e1, a), scale(e2, b)))).unwrap_or(dir)

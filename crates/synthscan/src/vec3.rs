@@ -31,22 +31,3 @@ pub(crate) fn ring_area(ring: &[V2]) -> f64 {
     0.5 * s
 }
 
-/// Two unit vectors perpendicular to the unit vector `d` and to each other, for the beam
-/// divergence offsets of a scan: `e1 = (d × a) / |d × a|` for the coordinate axis `a`
-/// least aligned with `d`, `e2 = d × e1`. Not `plane_geom::PlaneFrame`'s convention
-/// (whose `e1` is `a` made orthogonal to `d`, a quarter turn away): the seeded synthetic
-/// scans, and the ground truth and published figures made from them, are defined with
-/// this basis, so it stays (docs/ARCHITECTURE.md, Conventions).
-pub(crate) fn perpendicular_basis(d: V3) -> (V3, V3) {
-    // Pick the coordinate axis least aligned with `d`.
-    let a = if d[0].abs() <= d[1].abs() && d[0].abs() <= d[2].abs() {
-        [1.0, 0.0, 0.0]
-    } else if d[1].abs() <= d[2].abs() {
-        [0.0, 1.0, 0.0]
-    } else {
-        [0.0, 0.0, 1.0]
-    };
-    let e1 = normalize(cross(d, a)).unwrap_or([1.0, 0.0, 0.0]);
-    let e2 = cross(d, e1);
-    (e1, e2)
-}
