@@ -1,5 +1,6 @@
 //! Consistent normal orientation.
 
+use plane_geom::vec3::dot;
 use rayon::prelude::*;
 
 use crate::NormalsError;
@@ -101,11 +102,6 @@ fn side_direction(u: [f64; 3]) -> [f64; 3] {
         c * e1[1] + s * e2[1],
         c * e1[2] + s * e2[2],
     ]
-}
-
-#[inline]
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
 fn unit(a: [f64; 3]) -> [f64; 3] {

@@ -41,6 +41,7 @@ use cloud_normals::{
     spatial_order, voxel_downsample,
 };
 use halfedge_mesh::{HalfEdgeMesh, MeshError, NO_TWIN};
+use plane_geom::vec3::dot;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
@@ -938,11 +939,6 @@ fn in_input_order(mesh: HalfEdgeMesh, points: &[[f64; 3]], work: &[u32]) -> Half
         .map(|t| t.map(|v| work[v as usize]))
         .collect();
     HalfEdgeMesh::from_parts_trusted(vertices, triangles, halfedges, normals)
-}
-
-#[inline]
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
 impl Config {
