@@ -30,4 +30,3 @@ pub(crate) fn ring_area(ring: &[V2]) -> f64 {
     }
     0.5 * s
 }
-
