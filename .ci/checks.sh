@@ -8,6 +8,8 @@
 #   clippy               cargo clippy --workspace --all-targets --all-features --locked -- -D warnings
 #                        (the workspace lints of Cargo.toml, clippy.toml)
 #   doc                  cargo doc --workspace --no-deps --all-features --locked, RUSTDOCFLAGS=-D warnings
+#   doc-private          the same with --document-private-items (the docs of private items, which
+#                        contributors read, keep their links too)
 #   benches              cargo build --workspace --bench '*' --all-features --locked (dev profile: it
 #                        compiles the criterion benches against the test build's dependencies; run
 #                        them with `cargo bench`)
@@ -96,6 +98,8 @@ msrv() {
 check fmt cargo fmt --all -- --check
 check clippy cargo clippy --workspace --all-targets --all-features --locked -- -D warnings
 check doc env RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps --all-features --locked
+check doc-private env RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps --all-features \
+    --document-private-items --locked
 check benches cargo build --workspace --bench '*' --all-features --locked
 check no-default-features no_default_features
 check fuzz-targets cargo check --manifest-path fuzz/Cargo.toml --bins --locked
