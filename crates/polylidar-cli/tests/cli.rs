@@ -39,11 +39,7 @@ fn shape_demo_writes_geojson_and_png() {
         "--plot",
         png.to_str().unwrap(),
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    common::succeeded(&out);
     let collection: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&geojson).unwrap()).unwrap();
     assert_eq!(collection["type"], "FeatureCollection");
@@ -143,11 +139,7 @@ fn generated_scan_round_trips_through_extract_and_evaluate() {
         "--labels-out",
         truth.to_str().unwrap(),
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    common::succeeded(&out);
     let extracted = json(&polylidar(&[
         "extract",
         scan.to_str().unwrap(),
@@ -301,11 +293,7 @@ fn mesh_input_gives_planes_and_post_processing_is_optional() {
         ];
         args.extend(extra);
         let out = polylidar(&args);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        common::succeeded(&out);
         serde_json::from_str(&std::fs::read_to_string(&geojson).unwrap()).unwrap()
     };
     let processed = run(&[]);
@@ -468,11 +456,7 @@ fn a_floor_with_downward_normals_is_drawn() {
         "--plot",
         png.to_str().unwrap(),
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    common::succeeded(&out);
     let image = polylidar_io::read_color_image(&png).unwrap();
     let coloured = image
         .rgb

@@ -2,21 +2,14 @@
 //! with each other, per-plane textures, and clear errors.
 #![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
 
-use std::path::{Path, PathBuf};
-use std::process::Command;
+mod common;
 
-fn polylidar(dir: &Path, args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_polylidar"))
-        .current_dir(dir)
-        .args(args)
-        .output()
-        .expect("the binary runs")
-}
+use std::path::PathBuf;
+
+use common::{polylidar_in as polylidar, succeeded};
 
 fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("polylidar-mesh-{name}-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    common::scratch("mesh", name)
 }
 
 #[test]
@@ -49,11 +42,7 @@ fn textured_mesh_of_an_icl_frame() {
             "--json",
         ],
     );
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    succeeded(&out);
     let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert!(report["planes"].as_u64().unwrap() >= 3, "{report}");
     let triangles = report["triangles"].as_u64().unwrap() as usize;
@@ -111,11 +100,7 @@ fn textured_mesh_of_an_icl_frame() {
             "planes.obj",
         ],
     );
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    succeeded(&out);
     let mtl = std::fs::read_to_string(dir.join("planes.mtl")).unwrap();
     let maps = mtl.lines().filter(|l| l.starts_with("map_Kd")).count();
     assert!(maps >= 3);
@@ -137,11 +122,7 @@ fn a_texture_without_colours_is_a_clear_error() {
     assert!(stderr.contains("--texture needs colours"), "{stderr}");
     // Without a texture the 2D demo meshes fine.
     let out = polylidar(&dir, &["mesh", "--demo", "shape", "-o", "shape.obj"]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    succeeded(&out);
     assert!(
         std::fs::read_to_string(dir.join("shape.obj"))
             .unwrap()
