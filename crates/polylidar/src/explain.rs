@@ -17,6 +17,7 @@
 //! # Ok::<(), polylidar::PolylidarError>(())
 //! ```
 
+use crate::output::polygon_area;
 use crate::scale::{alpha_for_spacing, lmax_for_spacing};
 use crate::{Config, Extraction};
 
@@ -156,7 +157,7 @@ pub fn explain(extraction: &Extraction, config: &Config, spacing: Option<f64>) -
         let largest = extraction
             .polygons
             .iter()
-            .map(|p| polygon_area(&p.shell_points, &p.hole_points, p.plane.normal))
+            .map(|p| polygon_area(p.plane.normal, &p.shell_points, &p.hole_points))
             .fold(0.0, f64::max);
         findings.push(Finding {
             stage: "post-processing",
@@ -204,22 +205,6 @@ fn longest_edge_quantile(extraction: &Extraction, q: f64) -> Option<f64> {
 
 fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
     ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
-}
-
-/// Area of a planar polygon with holes, in its plane of unit `normal` (Newell's vector
-/// area of each ring, projected on the normal).
-pub fn polygon_area(shell: &[[f64; 3]], holes: &[Vec<[f64; 3]>], normal: [f64; 3]) -> f64 {
-    let ring = |r: &[[f64; 3]]| -> f64 {
-        let mut sum = [0.0; 3];
-        for (i, a) in r.iter().enumerate() {
-            let b = r[(i + 1) % r.len()];
-            sum[0] += a[1] * b[2] - a[2] * b[1];
-            sum[1] += a[2] * b[0] - a[0] * b[2];
-            sum[2] += a[0] * b[1] - a[1] * b[0];
-        }
-        0.5 * (sum[0] * normal[0] + sum[1] * normal[1] + sum[2] * normal[2]).abs()
-    };
-    ring(shell) - holes.iter().map(|h| ring(h)).sum::<f64>()
 }
 
 #[cfg(test)]
@@ -284,22 +269,5 @@ mod tests {
         assert_eq!(finding.suggested, Some(162.0)); // one region of 9 × 9 × 2 triangles
         let fixed = config.with_min_triangles(162);
         assert_eq!(run(&fixed, &grid(10, 1.0)).polygons.len(), 1);
-    }
-
-    #[test]
-    fn newell_area_of_a_square_with_a_hole() {
-        let shell = [
-            [0.0, 0.0, 1.0],
-            [4.0, 0.0, 1.0],
-            [4.0, 4.0, 1.0],
-            [0.0, 4.0, 1.0],
-        ];
-        let hole = vec![
-            [1.0, 1.0, 1.0],
-            [1.0, 2.0, 1.0],
-            [2.0, 2.0, 1.0],
-            [2.0, 1.0, 1.0],
-        ];
-        assert_eq!(polygon_area(&shell, &[hole], [0.0, 0.0, 1.0]), 15.0);
     }
 }
