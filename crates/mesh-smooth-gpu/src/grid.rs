@@ -224,7 +224,7 @@ impl SlotNormals {
         };
         // Per chunk, its first triangle and how many it has, if they are consecutive
         // and their slots present.
-        let runs: Vec<Option<(u32, usize)>> = chunks()
+        let runs: Vec<(u32, usize)> = chunks()
             .map(|(map, normals)| {
                 let mut run: Option<(u32, usize)> = None;
                 for (&t, n) in map.iter().zip(normals) {
@@ -244,10 +244,9 @@ impl SlotNormals {
                 }
                 Some(run.unwrap_or((0, 0)))
             })
-            .collect();
+            .collect::<Option<_>>()?;
         let mut total = 0usize;
-        for run in &runs {
-            let (first, count) = (*run)?;
+        for &(first, count) in &runs {
             if count > 0 && first as usize != total {
                 return None;
             }
@@ -259,7 +258,7 @@ impl SlotNormals {
         let mut out = vec![[0.0; 3]; num_triangles];
         let mut parts = Vec::with_capacity(runs.len());
         let mut rest = out.as_mut_slice();
-        for (_, count) in runs.into_iter().flatten() {
+        for (_, count) in runs {
             let (part, tail) = rest.split_at_mut(count);
             parts.push(part);
             rest = tail;
