@@ -892,10 +892,9 @@ fn coplanar(sums: &[PlaneSums], z_thresh: f64, norm_thresh: f64) -> Vec<u32> {
             } else {
                 (COPLANAR_COS, floor)
             };
-            let fitted_agree = match (fits[i], fj) {
-                (Some(fi), Some(fj)) => dot(fi.normal, fj.normal) >= cos,
-                _ => false,
-            };
+            let fitted_agree = fits[i]
+                .zip(fj)
+                .is_some_and(|(fi, fj)| dot(fi.normal, fj.normal) >= cos);
             if dot(pi.normal, pj.normal) < cos && !fitted_agree {
                 continue;
             }
