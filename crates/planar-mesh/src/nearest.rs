@@ -1,7 +1,7 @@
 //! Exact nearest-point queries in the plane for the texture (Alg. 1): the points bucketed
-//! in a uniform grid of about two points per cell, searched in the 3 × 3 cells around the
-//! query's cell, then ring by ring, until no unvisited cell can hold a nearer point. Building is a counting sort
-//! (linear), a query visits a few cells and allocates nothing.
+//! in a uniform grid, searched in the query's cell, then ring by ring of cells around it,
+//! until no unvisited cell can hold a nearer point. Building is a counting sort (linear), a
+//! query visits a few cells and allocates nothing.
 
 /// Points bucketed by grid cell. Ties are broken towards the smaller point index, so the
 /// answer does not depend on the bucketing.
@@ -24,23 +24,7 @@ impl PointGrid {
     /// Buckets `points` (finite coordinates) in cells of about `per_cell` points each when
     /// they cover `area`; `None` without points.
     pub fn new(points: &[[f64; 2]], area: f64, per_cell: f64) -> Option<Self> {
-        if points.is_empty() {
-            return None;
-        }
-        let mut lo = [f64::INFINITY; 2];
-        let mut hi = [f64::NEG_INFINITY; 2];
-        // Comparisons rather than `min` and `max`, whose NaN handling costs several
-        // instructions a point (the points are finite).
-        for p in points {
-            for k in 0..2 {
-                if p[k] < lo[k] {
-                    lo[k] = p[k];
-                }
-                if p[k] > hi[k] {
-                    hi[k] = p[k];
-                }
-            }
-        }
+        let [lo, hi] = bounds(points)?;
         let (w, h) = (hi[0] - lo[0], hi[1] - lo[1]);
         let n = points.len();
         let mut cell = (per_cell * area.max(0.0) / n as f64).sqrt();
@@ -52,12 +36,39 @@ impl PointGrid {
         if !cell.is_finite() {
             cell = w.max(h).max(1.0);
         }
+        Some(Self::bucket(points, hi, lo, cell))
+    }
+
+    /// Buckets `points` (finite coordinates) in square cells of side `cell` whose corners
+    /// lie on the lattice through `anchor`, so that a query at a cell's centre finds its
+    /// answer in that cell alone more often than not. `None` without points, or when the
+    /// points would need more than a few cells each.
+    pub fn on_lattice(points: &[[f64; 2]], anchor: [f64; 2], cell: f64) -> Option<Self> {
+        let [lo, hi] = bounds(points)?;
+        if !(cell.is_finite() && cell > 0.0 && anchor.iter().all(|a| a.is_finite())) {
+            return None;
+        }
+        // The lattice corner at the points' lower left (should rounding put it a hair
+        // above, the points below join the first row or column, as any point outside).
+        let origin = [0, 1].map(|k| anchor[k] + ((lo[k] - anchor[k]) / cell).floor() * cell);
+        let cells = [0, 1].map(|k| (hi[k] - origin[k]) / cell + 1.0);
+        if cells[0] * cells[1] > (MAX_CELLS_PER_POINT * points.len()) as f64 {
+            return None;
+        }
+        Some(Self::bucket(points, hi, origin, cell))
+    }
+
+    /// The counting sort of `points` (up to `hi`) into cells of side `cell` from `origin`
+    /// (about their lower left).
+    fn bucket(points: &[[f64; 2]], hi: [f64; 2], origin: [f64; 2], cell: f64) -> Self {
+        let n = points.len();
+        let cap = MAX_CELLS_PER_POINT * n;
         let inv_cell = 1.0 / cell;
-        let count = |span: f64| ((span * inv_cell) as usize).saturating_add(1);
+        let count = |k: usize| (((hi[k] - origin[k]) * inv_cell) as usize).saturating_add(1);
         // At most `cap + 1` cells per axis (points past the last cell join it).
-        let (cols, rows) = (count(w).min(cap + 1), count(h).min(cap + 1));
+        let (cols, rows) = (count(0).min(cap + 1), count(1).min(cap + 1));
         let mut grid = Self {
-            origin: lo,
+            origin,
             cell,
             inv_cell,
             cols,
@@ -79,7 +90,7 @@ impl PointGrid {
             grid.sorted[*slot as usize] = (*p, k as u32);
             *slot += 1;
         }
-        Some(grid)
+        grid
     }
 
     /// `(col, row)` of the cell holding `p`, clamped to the grid.
@@ -118,17 +129,14 @@ impl PointGrid {
         let mut best = (f64::INFINITY, u32::MAX);
         // A hair of slack: a point's cell comes from rounded arithmetic.
         let slack = self.cell * 1e-9;
-        // The 3 × 3 cells around the query first (three runs of `sorted`), then ring after
-        // ring around them.
-        for ring in 1usize.. {
+        // The query's cell first, then ring after ring of cells around it.
+        for ring in 0usize.. {
             let (c_lo, c_hi) = (c0.checked_sub(ring), c0 + ring);
             let (r_lo, r_hi) = (r0.checked_sub(ring), r0 + ring);
-            let (cs_lo, cs_hi) = (c_lo.unwrap_or(0), c_hi.min(self.cols - 1));
-            if ring == 1 {
-                for r in r_lo.unwrap_or(0)..=r_hi.min(self.rows - 1) {
-                    self.scan(r, cs_lo, cs_hi, q, &mut best);
-                }
+            if ring == 0 {
+                self.scan(r0, c0, c0, q, &mut best);
             } else {
+                let (cs_lo, cs_hi) = (c_lo.unwrap_or(0), c_hi.min(self.cols - 1));
                 // Bottom and top rows of the ring, then its left and right columns.
                 for r in [r_lo, (r_hi < self.rows).then_some(r_hi)]
                     .into_iter()
@@ -170,6 +178,28 @@ impl PointGrid {
         }
         best.1
     }
+}
+
+/// The lower-left and upper-right corners of `points`' bounding box; `None` without points.
+fn bounds(points: &[[f64; 2]]) -> Option<[[f64; 2]; 2]> {
+    if points.is_empty() {
+        return None;
+    }
+    let mut lo = [f64::INFINITY; 2];
+    let mut hi = [f64::NEG_INFINITY; 2];
+    // Comparisons rather than `min` and `max`, whose NaN handling costs several
+    // instructions a point (the points are finite).
+    for p in points {
+        for k in 0..2 {
+            if p[k] < lo[k] {
+                lo[k] = p[k];
+            }
+            if p[k] > hi[k] {
+                hi[k] = p[k];
+            }
+        }
+    }
+    Some([lo, hi])
 }
 
 #[cfg(test)]
@@ -215,6 +245,46 @@ mod tests {
                 assert_eq!(grid.nearest(*p), brute(&points, *p), "point {k}");
             }
         }
+    }
+
+    #[test]
+    fn lattice_grids_match_brute_force_wherever_the_anchor_lies() {
+        let mut s = 11;
+        let mut points: Vec<[f64; 2]> = (0..3000)
+            .map(|_| [uniform(&mut s) * 2.0, uniform(&mut s) * 1.5])
+            .collect();
+        // An outlier far from the rest and a duplicate.
+        points.push([2.6, -0.4]);
+        points.push(points[10]);
+        // Anchors inside, below and beyond the points; cells from a few points each to
+        // hundreds.
+        for anchor in [[0.0, 0.0], [-1.3, 0.4], [0.7, 2.9]] {
+            for cell in [0.03, 0.05, 0.3] {
+                let grid = PointGrid::on_lattice(&points, anchor, cell).unwrap();
+                for _ in 0..1500 {
+                    let q = [uniform(&mut s) * 3.0 - 0.5, uniform(&mut s) * 2.5 - 0.5];
+                    assert_eq!(
+                        grid.nearest(q),
+                        brute(&points, q),
+                        "{anchor:?} {cell} {q:?}"
+                    );
+                }
+                // Queries at cell centres, where a search may end in the query's cell.
+                for k in 0..200 {
+                    let c = f64::from(k % 20) + 0.5;
+                    let r = f64::from(k / 20) + 0.5;
+                    let q = [anchor[0] + c * cell, anchor[1] + r * cell];
+                    assert_eq!(
+                        grid.nearest(q),
+                        brute(&points, q),
+                        "{anchor:?} {cell} {q:?}"
+                    );
+                }
+            }
+        }
+        // Cells so small that the points would need too many: no grid.
+        assert!(PointGrid::on_lattice(&points, [0.0, 0.0], 1e-6).is_none());
+        assert!(PointGrid::on_lattice(&[], [0.0, 0.0], 1.0).is_none());
     }
 
     #[test]

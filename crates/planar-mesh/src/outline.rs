@@ -9,20 +9,16 @@
 //! that the band's triangles meet the interior squares corner to corner (no T-joints on the
 //! outline, no duplicate vertices).
 
-use crate::polygon::Polygon2;
 use crate::quadtree::{Quadtree, key, unkey};
 
 /// The outline segments as pairs of lattice keys; every endpoint is an interior vertex.
-pub(crate) fn outline_segments(tree: &Quadtree, polygon: &Polygon2) -> Vec<[u64; 2]> {
+pub(crate) fn outline_segments(tree: &Quadtree) -> Vec<[u64; 2]> {
     let n = 1u32 << tree.depth;
     // Unit sides: horizontal (y, x) from (x, y) to (x + 1, y); vertical (x, y) from (x, y)
     // to (x, y + 1).
     let mut horizontal: Vec<(u32, u32)> = Vec::new();
     let mut vertical: Vec<(u32, u32)> = Vec::new();
-    let interior = |i: u32, j: u32| {
-        !tree.is_boundary(i, j)
-            && polygon.contains(tree.point(f64::from(i) + 0.5, f64::from(j) + 0.5))
-    };
+    let interior = |i: u32, j: u32| !tree.is_boundary(i, j) && tree.inside(2 * i + 1, 2 * j + 1);
     for &k in &tree.boundary {
         let (i, j) = unkey(k);
         if i > 0 && interior(i - 1, j) {

@@ -58,7 +58,8 @@ impl Polygon2 {
     }
 
     /// Whether `p` is inside (even-odd rule over all rings; points on an edge may go
-    /// either way).
+    /// either way). The oracle of the tests; the crate asks [`LineCrossings`].
+    #[cfg(test)]
     pub fn contains(&self, p: [f64; 2]) -> bool {
         let mut inside = false;
         for &e in self.rows.edges_near(p[1]) {
@@ -84,6 +85,39 @@ impl Polygon2 {
             }
         }
         xs.sort_unstable_by(f64::total_cmp);
+    }
+}
+
+/// Where the polygon's rings cross the horizontal lines `y(0), y(1), …, y(lines − 1)`,
+/// computed once per line: point-in-polygon answers along those lines cost a binary search.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct LineCrossings {
+    /// The crossings of line `l` are `xs[starts[l]..starts[l + 1]]`, sorted.
+    starts: Vec<u32>,
+    xs: Vec<f64>,
+}
+
+impl LineCrossings {
+    pub fn new(polygon: &Polygon2, lines: u32, y: impl Fn(u32) -> f64) -> Self {
+        let mut starts = Vec::with_capacity(lines as usize + 1);
+        let mut xs = Vec::new();
+        let mut line = Vec::new();
+        starts.push(0);
+        for l in 0..lines {
+            polygon.crossings(y(l), &mut line);
+            xs.extend_from_slice(&line);
+            starts.push(xs.len() as u32);
+        }
+        Self { starts, xs }
+    }
+
+    /// [`Polygon2::contains`] of the point at `x` on line `l`, bit for bit: the crossings
+    /// right of `x` toggle "inside".
+    #[inline]
+    pub fn contains(&self, l: u32, x: f64) -> bool {
+        let xs = &self.xs[self.starts[l as usize] as usize..self.starts[l as usize + 1] as usize];
+        let right = xs.len() - xs.partition_point(|&c| c <= x);
+        right % 2 == 1
     }
 }
 
@@ -145,7 +179,8 @@ impl RowIndex {
         let span = (bbox[1][1] - bbox[0][1]).max(f64::MIN_POSITIVE);
         let inv_height = bands as f64 / span;
         let band =
-            |y: f64| (((y - bbox[0][1]) * inv_height).floor().max(0.0) as usize).min(bands - 1);
+            // `as` truncates towards zero and saturates: below the box (and NaN) is band 0.
+            |y: f64| (((y - bbox[0][1]) * inv_height) as usize).min(bands - 1);
         let mut counts = vec![0u32; bands + 1];
         for [a, b] in edges {
             for r in band(a[1].min(b[1]))..=band(a[1].max(b[1])) {
@@ -208,6 +243,19 @@ mod tests {
         let mut xs = Vec::new();
         p.crossings(1.5, &mut xs);
         assert_eq!(xs, vec![0.0, 1.0, 2.0, 4.0]);
+    }
+
+    #[test]
+    fn line_crossings_answer_as_contains() {
+        let p = square_with_hole();
+        let y = |l: u32| -0.25 + 0.5 * f64::from(l);
+        let lines = LineCrossings::new(&p, 11, y);
+        for l in 0..11 {
+            for k in 0..25 {
+                let x = -0.6 + 0.25 * f64::from(k);
+                assert_eq!(lines.contains(l, x), p.contains([x, y(l)]), "{x}, {}", y(l));
+            }
+        }
     }
 
     #[test]

@@ -8,7 +8,7 @@
 //! of it and its centre is inside, and then all of its descendants are interior too. Each
 //! node tests only the edges that met its parent.
 
-use crate::polygon::{Polygon2, segment_meets_box};
+use crate::polygon::{LineCrossings, Polygon2, segment_meets_box};
 
 /// The deepest subdivision (lattice coordinates must fit in `u32` with room to spare).
 pub const MAX_DEPTH: u32 = 16;
@@ -38,6 +38,9 @@ pub(crate) struct Quadtree {
     pub boundary: Vec<u64>,
     /// Corners of the interior nodes, as lattice keys `i << 32 | j`, sorted, unique.
     pub vertices: Vec<u64>,
+    /// The polygon's crossings with the horizontal lattice lines and the lines halfway
+    /// between them: line `k` is at `j = k / 2` (see [`Quadtree::inside`]).
+    lines: LineCrossings,
 }
 
 /// [`Depth::Auto`](crate::Depth::Auto): the finest cell is at most this many median boundary
@@ -69,6 +72,9 @@ impl Quadtree {
         let n = 1u32 << depth;
         let cell = side / f64::from(n);
         let margin = (clearance * cell).max(side * 1e-9);
+        let lines = LineCrossings::new(polygon, 2 * n + 1, |k| {
+            origin[1] + 0.5 * f64::from(k) * cell
+        });
         let mut tree = Self {
             origin,
             cell,
@@ -76,50 +82,71 @@ impl Quadtree {
             interior: Vec::new(),
             boundary: Vec::new(),
             vertices: Vec::new(),
+            lines,
         };
-        // The edges near each node, as ranges of one pool: a node's children share its
-        // range and append their own, so nothing is copied or allocated per node.
-        let mut pool: Vec<u32> = (0..polygon.edges.len() as u32).collect();
+        // The edges near each node, as ranges of one pool. A node hands its edges on to
+        // the children they meet; everything past a node's range when it is taken from the
+        // stack belongs to subtrees already done.
         let root = Node {
             i: 0,
             j: 0,
             size: n,
         };
-        let mut stack: Vec<(Node, u32, u32)> = vec![(root, 0, pool.len() as u32)];
-        while let Some((node, start, end)) = stack.pop() {
-            let lo = tree.corner(node.i, node.j);
-            let hi = tree.corner(node.i + node.size, node.j + node.size);
-            let (lo, hi) = (
-                [lo[0] - margin, lo[1] - margin],
-                [hi[0] + margin, hi[1] + margin],
-            );
-            let first = pool.len();
-            for k in start as usize..end as usize {
-                let e = pool[k];
+        let (lo, hi) = tree.node_box(root, margin);
+        let mut pool: Vec<u32> = (0..polygon.edges.len() as u32)
+            .filter(|&e| {
                 let [a, b] = polygon.edges[e as usize];
-                if segment_meets_box(a, b, lo, hi) {
-                    pool.push(e);
-                }
-            }
-            if pool.len() == first {
-                let h = 0.5 * f64::from(node.size);
-                if polygon.contains(tree.point(f64::from(node.i) + h, f64::from(node.j) + h)) {
+                segment_meets_box(a, b, lo, hi)
+            })
+            .collect();
+        let mut stack: Vec<(Node, u32, u32)> = vec![(root, 0, pool.len() as u32)];
+        let mut lists: [Vec<u32>; 4] = Default::default();
+        while let Some((node, start, end)) = stack.pop() {
+            pool.truncate(end as usize);
+            if start == end {
+                if tree.inside(2 * node.i + node.size, 2 * node.j + node.size) {
                     tree.interior.push(node);
                 }
-            } else if node.size == 1 {
+                continue;
+            }
+            if node.size == 1 {
                 tree.boundary.push(key(node.i, node.j));
-                pool.truncate(first);
-            } else {
-                let s = node.size / 2;
-                let (start, end) = (first as u32, pool.len() as u32);
-                for (di, dj) in [(0, 0), (s, 0), (0, s), (s, s)] {
-                    let child = Node {
-                        i: node.i + di,
-                        j: node.j + dj,
-                        size: s,
-                    };
-                    stack.push((child, start, end));
+                continue;
+            }
+            let s = node.size / 2;
+            let children = [(0, 0), (s, 0), (0, s), (s, s)].map(|(di, dj)| Node {
+                i: node.i + di,
+                j: node.j + dj,
+                size: s,
+            });
+            let boxes = children.map(|c| tree.node_box(c, margin));
+            // An edge is tested against the children whose side of the split lines it
+            // reaches (the tests `segment_meets_box` begins with); the other sides are
+            // the node's, which it meets.
+            let (x_low, x_high) = (boxes[0].1[0], boxes[1].0[0]);
+            let (y_low, y_high) = (boxes[0].1[1], boxes[2].0[1]);
+            for &e in &pool[start as usize..end as usize] {
+                let [a, b] = polygon.edges[e as usize];
+                let low_x = !(a[0] > x_low && b[0] > x_low);
+                let high_x = !(a[0] < x_high && b[0] < x_high);
+                let low_y = !(a[1] > y_low && b[1] > y_low);
+                let high_y = !(a[1] < y_high && b[1] < y_high);
+                let reach = [
+                    low_x && low_y,
+                    high_x && low_y,
+                    low_x && high_y,
+                    high_x && high_y,
+                ];
+                for c in 0..4 {
+                    if reach[c] && segment_meets_box(a, b, boxes[c].0, boxes[c].1) {
+                        lists[c].push(e);
+                    }
                 }
+            }
+            for (child, list) in children.into_iter().zip(&mut lists) {
+                let first = pool.len() as u32;
+                pool.append(list);
+                stack.push((child, first, pool.len() as u32));
             }
         }
         tree.boundary.sort_unstable();
@@ -154,6 +181,25 @@ impl Quadtree {
     }
 
     /// Whether finest cell `(i, j)` is a boundary cell.
+    /// The box of `node`, grown by `margin` on every side.
+    #[inline]
+    fn node_box(&self, node: Node, margin: f64) -> ([f64; 2], [f64; 2]) {
+        let lo = self.corner(node.i, node.j);
+        let hi = self.corner(node.i + node.size, node.j + node.size);
+        (
+            [lo[0] - margin, lo[1] - margin],
+            [hi[0] + margin, hi[1] + margin],
+        )
+    }
+
+    /// Whether lattice point `(i / 2, j / 2)` (half-integers included: `(2 i + 1, 2 j + 1)`
+    /// is the centre of finest cell `(i, j)`) is inside the polygon, as
+    /// [`Polygon2::contains`] says, bit for bit.
+    pub fn inside(&self, i: u32, j: u32) -> bool {
+        self.lines
+            .contains(j, self.point(0.5 * f64::from(i), 0.0)[0])
+    }
+
     pub fn is_boundary(&self, i: u32, j: u32) -> bool {
         self.boundary.binary_search(&key(i, j)).is_ok()
     }
@@ -170,20 +216,24 @@ impl Quadtree {
 /// the RGB-D frames 20 % of the planar points at 1–2 spacings, against 13 % here) for
 /// little gain in triangle shape; much coarser ones leave a wide band of thin triangles.
 pub(crate) fn auto_depth(polygon: &Polygon2) -> u32 {
-    let mut lengths: Vec<f64> = polygon
+    // Squared lengths: the same median, without a `hypot` per edge.
+    let mut squares: Vec<f64> = polygon
         .edges
         .iter()
-        .map(|[a, b]| (b[0] - a[0]).hypot(b[1] - a[1]))
+        .map(|[a, b]| {
+            let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+            dx * dx + dy * dy
+        })
         .filter(|l| *l > 0.0)
         .collect();
-    if lengths.is_empty() {
+    if squares.is_empty() {
         return 1;
     }
-    let mid = lengths.len() / 2;
-    let (_, median, _) = lengths.select_nth_unstable_by(mid, f64::total_cmp);
+    let mid = squares.len() / 2;
+    let (_, median, _) = squares.select_nth_unstable_by(mid, f64::total_cmp);
     let [lo, hi] = polygon.bbox;
     let extent = (hi[0] - lo[0]).max(hi[1] - lo[1]);
-    let depth = (extent / (AUTO_CELL_EDGES * *median)).log2().ceil();
+    let depth = (extent / (AUTO_CELL_EDGES * median.sqrt())).log2().ceil();
     if depth.is_finite() {
         (depth.max(1.0) as u32).min(MAX_DEPTH)
     } else {

@@ -210,10 +210,7 @@ pub(crate) fn generate(
     if options.bleed {
         bleed(&mut mask, w, height as usize);
     }
-    // About two points per cell: a texel's search usually ends after the 3 × 3 cells
-    // around it.
-    let grid =
-        PointGrid::new(points, polygon.area(), 2.0).ok_or(PlanarMeshError::TooFewPoints(0))?;
+    let grid = texel_grid(points, polygon.area(), lo, r).ok_or(PlanarMeshError::TooFewPoints(0))?;
     let mut rgb = std::mem::take(&mut texture.rgb);
     let centre = |col: usize, row: usize| texture.texel_center(col as u32, row as u32);
     rgb.par_chunks_mut(3 * w)
@@ -229,6 +226,29 @@ pub(crate) fn generate(
         });
     texture.rgb = rgb;
     Ok(texture)
+}
+
+/// Points per grid cell [`texel_grid`] aims at.
+const POINTS_PER_CELL: f64 = 3.0;
+
+/// The points bucketed for the texels' queries. Where there is at least a point per texel,
+/// the cells are texels divided into an odd number `m × m` of cells of about
+/// [`POINTS_PER_CELL`] points each, so that each texel's centre is the centre of a cell and
+/// most searches end in that cell. Sparser points get cells of about two points each,
+/// wherever they fall.
+fn texel_grid(points: &[[f64; 2]], area: f64, origin: [f64; 2], r: f64) -> Option<PointGrid> {
+    let per_texel = points.len() as f64 / (area * r * r);
+    if per_texel >= 1.0 {
+        let m = 2.0
+            * ((per_texel / POINTS_PER_CELL).sqrt() / 2.0 - 0.5)
+                .round()
+                .max(0.0)
+            + 1.0;
+        if let Some(grid) = PointGrid::on_lattice(points, origin, 1.0 / (m * r)) {
+            return Some(grid);
+        }
+    }
+    PointGrid::new(points, area, 2.0)
 }
 
 /// Marks (2) every unmarked texel with a marked 8-neighbour.

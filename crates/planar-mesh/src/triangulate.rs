@@ -100,7 +100,7 @@ pub(crate) fn triangulate_segment(
         }
         (Method::Polygon, Some(tree)) => {
             let (triangles, interior) =
-                polygon_based(&mut vertices, &ring_edges, polygon, tree, conforming)?;
+                polygon_based(&mut vertices, &ring_edges, tree, conforming)?;
             interior_triangles = interior;
             triangles
         }
@@ -118,7 +118,6 @@ pub(crate) fn triangulate_segment(
 fn polygon_based(
     vertices: &mut Vec<[f64; 2]>,
     ring_edges: &[[u32; 2]],
-    polygon: &Polygon2,
     tree: &Quadtree,
     conforming: bool,
 ) -> Result<(Vec<[u32; 3]>, usize), PlanarMeshError> {
@@ -136,7 +135,7 @@ fn polygon_based(
             .ok()
     };
     // The band's outline first: nodes with outline vertices on their sides must use them.
-    let segments = outline_segments(tree, polygon);
+    let segments = outline_segments(tree);
     let mut outline_keys: Vec<u64> = segments.iter().flatten().copied().collect();
     outline_keys.sort_unstable();
     outline_keys.dedup();

@@ -46,24 +46,41 @@ impl Extraction {
         let words = self.mesh.num_vertices().div_ceil(64);
         self.polygons
             .par_iter()
-            .map(|p| {
-                // A bitmap of the vertices seen, read back in order.
-                let mut seen = vec![0u64; words];
-                for &t in &p.triangles {
-                    for v in triangles[t as usize] {
-                        seen[v as usize / 64] |= 1 << (v % 64);
+            .map_init(
+                || (Vec::new(), vec![0u64; words]),
+                |(by_triangle, by_vertex), p| {
+                    // The polygon's triangles in index order (a bitmap of their span), so
+                    // that the triangle array is read front to back, not in the order
+                    // region growing found them.
+                    let Some((&lo, &hi)) = p.triangles.iter().min().zip(p.triangles.iter().max())
+                    else {
+                        return Vec::new();
+                    };
+                    let base = lo as usize / 64;
+                    by_triangle.clear();
+                    by_triangle.resize(hi as usize / 64 + 1 - base, 0u64);
+                    for &t in &p.triangles {
+                        by_triangle[t as usize / 64 - base] |= 1 << (t % 64);
                     }
-                }
-                let mut ids = Vec::with_capacity(p.triangles.len() / 2 + 8);
-                for (w, &bits) in seen.iter().enumerate() {
-                    let mut b = bits;
-                    while b != 0 {
-                        ids.push((w * 64) as u32 + b.trailing_zeros());
-                        b &= b - 1;
+                    let (mut first, mut last) = (usize::MAX, 0);
+                    for_each_bit(by_triangle, |t| {
+                        for v in triangles[base * 64 + t] {
+                            let w = v as usize / 64;
+                            by_vertex[w] |= 1 << (v % 64);
+                            first = first.min(w);
+                            last = last.max(w);
+                        }
+                    });
+                    // Read back in order, leaving the bitmap cleared for the next polygon.
+                    let mut ids = Vec::with_capacity(p.triangles.len() / 2 + 8);
+                    if first <= last {
+                        let touched = &mut by_vertex[first..=last];
+                        for_each_bit(touched, |v| ids.push((first * 64 + v) as u32));
+                        touched.fill(0);
                     }
-                }
-                ids
-            })
+                    ids
+                },
+            )
             .collect()
     }
 
@@ -142,5 +159,17 @@ impl Extraction {
             skipped,
             seconds: start.elapsed().as_secs_f64(),
         })
+    }
+}
+
+/// Calls `f` with the index of every set bit of `bits` (bit `k` of word `w` is `64 w + k`),
+/// in increasing order.
+fn for_each_bit(bits: &[u64], mut f: impl FnMut(usize)) {
+    for (w, &word) in bits.iter().enumerate() {
+        let mut b = word;
+        while b != 0 {
+            f(w * 64 + b.trailing_zeros() as usize);
+            b &= b - 1;
+        }
     }
 }
