@@ -120,11 +120,15 @@ fn add_constraints(cdt: &mut Cdt, input: &CdtInput<'_>, handle: &[FixedVertexHan
     let mut conflicting = Vec::new();
     for e in input.ring_edges.iter().chain(input.outline_edges) {
         let [a, b] = e.map(|v| handle[v as usize]);
-        if a == b || cdt.exists_constraint(a, b) {
+        if a == b {
+            continue;
+        }
+        let edge = cdt.get_edge_from_neighbors(a, b);
+        if edge.is_some_and(|e| e.is_constraint_edge()) {
             continue;
         }
         if let Some(list) = &mut pending {
-            if let Some(edge) = cdt.get_edge_from_neighbors(a, b) {
+            if let Some(edge) = edge {
                 marked[edge.fix().as_undirected().index()] = true;
                 list.push([a, b]);
                 continue;

@@ -52,32 +52,28 @@ impl Extraction {
                     // The polygon's triangles in index order (a bitmap of their span), so
                     // that the triangle array is read front to back, not in the order
                     // region growing found them.
-                    let Some((&lo, &hi)) = p.triangles.iter().min().zip(p.triangles.iter().max())
-                    else {
+                    let (lo, hi) = p
+                        .triangles
+                        .iter()
+                        .fold((u32::MAX, 0), |(lo, hi), &t| (lo.min(t), hi.max(t)));
+                    if lo > hi {
                         return Vec::new();
-                    };
+                    }
                     let base = lo as usize / 64;
                     by_triangle.clear();
                     by_triangle.resize(hi as usize / 64 + 1 - base, 0u64);
                     for &t in &p.triangles {
                         by_triangle[t as usize / 64 - base] |= 1 << (t % 64);
                     }
-                    let (mut first, mut last) = (usize::MAX, 0);
                     for_each_bit(by_triangle, |t| {
                         for v in triangles[base * 64 + t] {
-                            let w = v as usize / 64;
-                            by_vertex[w] |= 1 << (v % 64);
-                            first = first.min(w);
-                            last = last.max(w);
+                            by_vertex[v as usize / 64] |= 1 << (v % 64);
                         }
                     });
                     // Read back in order, leaving the bitmap cleared for the next polygon.
                     let mut ids = Vec::with_capacity(p.triangles.len() / 2 + 8);
-                    if first <= last {
-                        let touched = &mut by_vertex[first..=last];
-                        for_each_bit(touched, |v| ids.push((first * 64 + v) as u32));
-                        touched.fill(0);
-                    }
+                    for_each_bit(by_vertex, |v| ids.push(v as u32));
+                    by_vertex.fill(0);
                     ids
                 },
             )
