@@ -9,8 +9,8 @@ pub(crate) struct PointGrid {
     origin: [f64; 2],
     cell: f64,
     inv_cell: f64,
-    cols: usize,
-    rows: usize,
+    cols: u32,
+    rows: u32,
     /// Points of cell `c` (row-major) are `sorted[starts[c]..starts[c + 1]]`.
     starts: Vec<u32>,
     /// Point coordinates and original indices, cell after cell.
@@ -19,6 +19,9 @@ pub(crate) struct PointGrid {
 
 /// Cells per point at most (the grid is enlarged when the points are spread thin).
 const MAX_CELLS_PER_POINT: usize = 4;
+
+/// Cells per axis at most, so that cell arithmetic stays in `u32`.
+const MAX_CELLS_PER_AXIS: usize = 1 << 30;
 
 impl PointGrid {
     /// Buckets `points` (finite coordinates) in cells of about `per_cell` points each when
@@ -66,13 +69,14 @@ impl PointGrid {
         let inv_cell = 1.0 / cell;
         let count = |k: usize| (((hi[k] - origin[k]) * inv_cell) as usize).saturating_add(1);
         // At most `cap + 1` cells per axis (points past the last cell join it).
-        let (cols, rows) = (count(0).min(cap + 1), count(1).min(cap + 1));
+        let axis = |k: usize| count(k).min(cap + 1).min(MAX_CELLS_PER_AXIS);
+        let (cols, rows) = (axis(0), axis(1));
         let mut grid = Self {
             origin,
             cell,
             inv_cell,
-            cols,
-            rows,
+            cols: cols as u32,
+            rows: rows as u32,
             starts: vec![0; cols * rows + 1],
             sorted: Vec::with_capacity(n),
         };
@@ -93,27 +97,39 @@ impl PointGrid {
         grid
     }
 
-    /// `(col, row)` of the cell holding `p`, clamped to the grid.
+    /// `p` in cells from the origin.
     #[inline]
-    fn col_row(&self, p: [f64; 2]) -> (usize, usize) {
-        // `as` saturates: below the origin is column or row 0.
-        let c = ((p[0] - self.origin[0]) * self.inv_cell) as usize;
-        let r = ((p[1] - self.origin[1]) * self.inv_cell) as usize;
-        (c.min(self.cols - 1), r.min(self.rows - 1))
+    fn in_cells(&self, p: [f64; 2]) -> [f64; 2] {
+        [
+            (p[0] - self.origin[0]) * self.inv_cell,
+            (p[1] - self.origin[1]) * self.inv_cell,
+        ]
+    }
+
+    /// `(col, row)` of the cell at `f` (in cells from the origin), clamped to the grid.
+    #[inline]
+    fn col_row(&self, f: [f64; 2]) -> (u32, u32) {
+        // `as` saturates: below the origin (or NaN) is column or row 0. Into `u32`, which
+        // costs a few instructions where `usize` costs a dozen.
+        (
+            (f[0] as u32).min(self.cols - 1),
+            (f[1] as u32).min(self.rows - 1),
+        )
     }
 
     #[inline]
     fn cell_of(&self, p: [f64; 2]) -> usize {
-        let (c, r) = self.col_row(p);
-        r * self.cols + c
+        let (c, r) = self.col_row(self.in_cells(p));
+        r as usize * self.cols as usize + c as usize
     }
 
     /// Updates `best` (squared distance, index) with the points of cells `c_lo..=c_hi` of
     /// row `r`, which lie one after the other in `sorted`.
     #[inline]
-    fn scan(&self, r: usize, c_lo: usize, c_hi: usize, q: [f64; 2], best: &mut (f64, u32)) {
-        let row = r * self.cols;
-        let range = self.starts[row + c_lo] as usize..self.starts[row + c_hi + 1] as usize;
+    fn scan(&self, r: u32, c_lo: u32, c_hi: u32, q: [f64; 2], best: &mut (f64, u32)) {
+        let row = r as usize * self.cols as usize;
+        let range = self.starts[row + c_lo as usize] as usize
+            ..self.starts[row + c_hi as usize + 1] as usize;
         for &(p, k) in &self.sorted[range] {
             let (dx, dy) = (p[0] - q[0], p[1] - q[1]);
             let d = dx * dx + dy * dy;
@@ -125,17 +141,17 @@ impl PointGrid {
 
     /// The index of the point nearest to `q` (the smallest index among equally near ones).
     pub fn nearest(&self, q: [f64; 2]) -> u32 {
-        let (c0, r0) = self.col_row(q);
+        // A hair of slack, in cells: a point's cell comes from rounded arithmetic.
+        const SLACK: f64 = 1e-9;
+        let f = self.in_cells(q);
+        let (c0, r0) = self.col_row(f);
         let mut best = (f64::INFINITY, u32::MAX);
-        // A hair of slack: a point's cell comes from rounded arithmetic.
-        let slack = self.cell * 1e-9;
         // The query's cell first, then ring after ring of cells around it.
-        for ring in 0usize.. {
-            let (c_lo, c_hi) = (c0.checked_sub(ring), c0 + ring);
-            let (r_lo, r_hi) = (r0.checked_sub(ring), r0 + ring);
-            if ring == 0 {
-                self.scan(r0, c0, c0, q, &mut best);
-            } else {
+        self.scan(r0, c0, c0, q, &mut best);
+        for ring in 0u32.. {
+            if ring > 0 {
+                let (c_lo, c_hi) = (c0.checked_sub(ring), c0 + ring);
+                let (r_lo, r_hi) = (r0.checked_sub(ring), r0 + ring);
                 let (cs_lo, cs_hi) = (c_lo.unwrap_or(0), c_hi.min(self.cols - 1));
                 // Bottom and top rows of the ring, then its left and right columns.
                 for r in [r_lo, (r_hi < self.rows).then_some(r_hi)]
@@ -154,24 +170,27 @@ impl PointGrid {
                     }
                 }
             }
-            // The nearest unvisited point is at least as far as the block's open sides.
+            // The nearest unvisited point is at least as far as the block's open sides
+            // (those with cells beyond them); in cells.
+            let (c_lo, c_hi) = (c0.saturating_sub(ring), c0 + ring);
+            let (r_lo, r_hi) = (r0.saturating_sub(ring), r0 + ring);
             let mut bound = f64::INFINITY;
-            if let Some(c) = c_lo.filter(|&c| c > 0) {
-                bound = bound.min(q[0] - (self.origin[0] + c as f64 * self.cell));
+            if c_lo > 0 {
+                bound = bound.min(f[0] - f64::from(c_lo));
             }
             if c_hi + 1 < self.cols {
-                bound = bound.min(self.origin[0] + (c_hi + 1) as f64 * self.cell - q[0]);
+                bound = bound.min(f64::from(c_hi + 1) - f[0]);
             }
-            if let Some(r) = r_lo.filter(|&r| r > 0) {
-                bound = bound.min(q[1] - (self.origin[1] + r as f64 * self.cell));
+            if r_lo > 0 {
+                bound = bound.min(f[1] - f64::from(r_lo));
             }
             if r_hi + 1 < self.rows {
-                bound = bound.min(self.origin[1] + (r_hi + 1) as f64 * self.cell - q[1]);
+                bound = bound.min(f64::from(r_hi + 1) - f[1]);
             }
             if bound == f64::INFINITY {
                 break;
             }
-            let bound = bound - slack;
+            let bound = (bound - SLACK) * self.cell;
             if bound > 0.0 && best.0 < bound * bound {
                 break;
             }

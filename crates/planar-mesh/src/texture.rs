@@ -251,19 +251,59 @@ fn texel_grid(points: &[[f64; 2]], area: f64, origin: [f64; 2], r: f64) -> Optio
     PointGrid::new(points, area, 2.0)
 }
 
-/// Marks (2) every unmarked texel with a marked 8-neighbour.
+/// Marks (2) every unmarked texel with a marked (1) 8-neighbour: the marked texels grown
+/// by a column each way, row by row, then by a row each way.
 fn bleed(mask: &mut [u8], w: usize, h: usize) {
-    let source = mask.to_vec();
-    for row in 0..h {
+    let mut wide = vec![0u8; w * h];
+    for (src, dst) in mask.chunks_exact(w).zip(wide.chunks_exact_mut(w)) {
         for col in 0..w {
-            if source[row * w + col] != 0 {
-                continue;
+            let (left, right) = (col.saturating_sub(1), (col + 1).min(w - 1));
+            dst[col] = u8::from(src[left] == 1 || src[col] == 1 || src[right] == 1);
+        }
+    }
+    for row in 0..h {
+        let (up, down) = (row.saturating_sub(1) * w, (row + 1).min(h - 1) * w);
+        let at = row * w;
+        for col in 0..w {
+            if mask[at + col] == 0 && (wide[up + col] | wide[at + col] | wide[down + col]) != 0 {
+                mask[at + col] = 2;
             }
-            let near = (row.saturating_sub(1)..=(row + 1).min(h - 1)).any(|r| {
-                (col.saturating_sub(1)..=(col + 1).min(w - 1)).any(|c| source[r * w + c] == 1)
-            });
-            if near {
-                mask[row * w + col] = 2;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Bleed marks exactly the unmarked texels with a marked 8-neighbour, on masks of
+    /// every small size, borders included.
+    #[test]
+    fn bleed_marks_the_8_neighbours_of_marked_texels() {
+        let mut state = 5u64;
+        for (w, h) in [(1, 1), (1, 5), (6, 1), (2, 2), (7, 4), (13, 9)] {
+            for _ in 0..20 {
+                let mask: Vec<u8> = (0..w * h)
+                    .map(|_| {
+                        state = state
+                            .wrapping_mul(6_364_136_223_846_793_005)
+                            .wrapping_add(1_442_695_040_888_963_407);
+                        u8::from(state >> 61 == 0)
+                    })
+                    .collect();
+                let mut got = mask.clone();
+                bleed(&mut got, w, h);
+                for row in 0..h {
+                    for col in 0..w {
+                        let near = (row.saturating_sub(1)..=(row + 1).min(h - 1)).any(|r| {
+                            (col.saturating_sub(1)..=(col + 1).min(w - 1))
+                                .any(|c| mask[r * w + c] == 1)
+                        });
+                        let i = row * w + col;
+                        let want = if mask[i] == 1 { 1 } else { 2 * u8::from(near) };
+                        assert_eq!(got[i], want, "{w}×{h} at ({col}, {row})");
+                    }
+                }
             }
         }
     }
