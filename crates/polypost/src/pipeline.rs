@@ -58,6 +58,12 @@ pub(crate) fn process_polygon(
         shape = shape.buffer_with_style(buffer_style(config.beta_pos, config.buffer_join));
     }
     if config.beta_neg > 0.0 && !shape.0.is_empty() {
+        // Buffering inwards only takes area away: an input below γ as a whole now can give
+        // no part of γ, so it is dropped without the costlier of the two buffers.
+        if config.min_area > 0.0 && shape.unsigned_area() < config.min_area {
+            diag.dropped_by_area += 1;
+            return Vec::new();
+        }
         shape = shape.buffer_with_style(buffer_style(-config.beta_neg, config.buffer_join));
     }
     shape.0.retain(|p| !p.exterior().0.is_empty());

@@ -77,6 +77,29 @@ fn valid_polygon_without_steps_passes_unchanged() {
     assert_eq!(out.diagnostics.dropped_by_area, 1);
 }
 
+/// An input whose outward buffer stays below γ is dropped before the inward buffer, once,
+/// as is one that reaches γ outward and falls below it inward; one that stays above γ is
+/// kept. (A 1 × 1 square grows to 1.21 outward by 0.05 with mitred corners and shrinks to
+/// a 0.7 × 0.7 square inward by 0.2.)
+#[test]
+fn inputs_that_cannot_reach_gamma_are_dropped_once() {
+    let p = poly(&square(0.0, 0.0, 1.0), &[]);
+    let config = PostprocessConfig::default()
+        .with_beta_pos(0.05)
+        .with_beta_neg(0.2);
+    for min_area in [1.3, 1.15] {
+        let out = processor(config.with_min_area(min_area)).process_2d(&p);
+        assert!(out.polygons.is_empty(), "γ {min_area}");
+        assert_eq!(out.diagnostics.dropped_by_area, 1, "γ {min_area}");
+        assert_eq!(out.diagnostics.vanished, 0, "γ {min_area}");
+    }
+    let out = processor(config.with_min_area(0.45)).process_2d(&p);
+    assert_eq!(out.polygons.len(), 1);
+    let area = out.polygons[0].polygon.unsigned_area();
+    assert!((area - 0.49).abs() < 1e-6, "{area}");
+    assert_eq!(out.diagnostics.dropped_by_area, 0);
+}
+
 #[test]
 fn hole_filter_uses_hole_area() {
     let shell = square(0.0, 0.0, 10.0);
