@@ -72,8 +72,13 @@ impl Extraction {
                     });
                     // Read back in order, leaving the bitmap cleared for the next polygon.
                     let mut ids = Vec::with_capacity(p.triangles.len() / 2 + 8);
-                    for_each_bit(by_vertex, |v| ids.push(v as u32));
-                    by_vertex.fill(0);
+                    for (w, word) in by_vertex.iter_mut().enumerate() {
+                        let mut b = std::mem::take(word);
+                        while b != 0 {
+                            ids.push((w * 64) as u32 + b.trailing_zeros());
+                            b &= b - 1;
+                        }
+                    }
                     ids
                 },
             )
