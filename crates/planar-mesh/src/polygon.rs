@@ -111,8 +111,8 @@ impl LineCrossings {
         Self { starts, xs }
     }
 
-    /// [`Polygon2::contains`] of the point at `x` on line `l`, bit for bit: the crossings
-    /// right of `x` toggle "inside".
+    /// Whether the point at `x` on line `l` is inside (even-odd rule): the crossings right
+    /// of `x` toggle "inside", as in `Polygon2::contains`, the tests' oracle, bit for bit.
     #[inline]
     pub fn contains(&self, l: u32, x: f64) -> bool {
         let xs = &self.xs[self.starts[l as usize] as usize..self.starts[l as usize + 1] as usize];

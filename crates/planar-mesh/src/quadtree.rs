@@ -193,8 +193,8 @@ impl Quadtree {
     }
 
     /// Whether lattice point `(i / 2, j / 2)` (half-integers included: `(2 i + 1, 2 j + 1)`
-    /// is the centre of finest cell `(i, j)`) is inside the polygon, as
-    /// [`Polygon2::contains`] says, bit for bit.
+    /// is the centre of finest cell `(i, j)`) is inside the polygon (even-odd rule, from the
+    /// crossings of [`LineCrossings`]).
     pub fn inside(&self, i: u32, j: u32) -> bool {
         self.lines
             .contains(j, self.point(0.5 * f64::from(i), 0.0)[0])
