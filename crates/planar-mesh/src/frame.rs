@@ -2,7 +2,7 @@
 //! transform into its x-y frame.
 
 use plane_geom::vec3::norm;
-use plane_geom::{PlaneFrame, symmetric_eigen};
+use plane_geom::{PlaneFrame, centroid_and_covariance, symmetric_eigen};
 
 use crate::PlanarMeshError;
 
@@ -30,34 +30,18 @@ pub fn fit_frame(points: &[[f64; 3]]) -> Result<PlaneFrame, PlanarMeshError> {
     if points.len() < 3 {
         return Err(PlanarMeshError::TooFewPoints(points.len()));
     }
-    if let Some(index) = points.iter().position(|p| !p.iter().all(|v| v.is_finite())) {
+    let Some((mean, covariance)) = centroid_and_covariance(|| points.iter().copied()) else {
+        let index = points
+            .iter()
+            .position(|p| !p.iter().all(|v| v.is_finite()))
+            .unwrap_or(0);
         return Err(PlanarMeshError::NonFinite {
             what: "point",
             index,
             value: points[index],
         });
-    }
-    let n = points.len() as f64;
-    let mut mean = [0.0; 3];
-    for p in points {
-        for k in 0..3 {
-            mean[k] += p[k];
-        }
-    }
-    let mean = mean.map(|v| v / n);
-    let mut sums = [0.0f64; 6];
-    for p in points {
-        let [x, y, z] = [p[0] - mean[0], p[1] - mean[1], p[2] - mean[2]];
-        for (s, v) in sums
-            .iter_mut()
-            .zip([x * x, x * y, x * z, y * y, y * z, z * z])
-        {
-            *s += v;
-        }
-    }
-    let [xx, xy, xz, yy, yz, zz] = sums.map(|v| v / n);
-    let eigen = symmetric_eigen([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]])
-        .ok_or(PlanarMeshError::Degenerate)?;
+    };
+    let eigen = symmetric_eigen(covariance).ok_or(PlanarMeshError::Degenerate)?;
     let [_, middle, largest] = eigen.values;
     if largest <= 0.0 || middle <= largest * 1e-18 {
         return Err(PlanarMeshError::Degenerate);

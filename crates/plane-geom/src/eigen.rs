@@ -158,6 +158,57 @@ pub fn smallest_eigenvector(c: [f64; 6]) -> Option<([f64; 3], f64)> {
     Some((best.map(|v| v / len), smallest.max(0.0)))
 }
 
+/// The centroid of the points `points()` yields and their covariance matrix about it, in
+/// two passes (the mean first, then the products of the centred offsets, which keeps the
+/// precision of coordinates far from zero without a reference point): the input of a
+/// least-squares plane fit by [`symmetric_eigen`]. `None` without points or when a
+/// coordinate is not finite.
+///
+/// ```
+/// use plane_geom::centroid_and_covariance;
+///
+/// let points = [[10.0, 0.0, 5.0], [12.0, 0.0, 5.0]];
+/// let (centroid, c) = centroid_and_covariance(|| points.into_iter()).unwrap();
+/// assert_eq!(centroid, [11.0, 0.0, 5.0]);
+/// assert_eq!(c, [[1.0, 0.0, 0.0], [0.0, 0.0, 0.0], [0.0, 0.0, 0.0]]);
+/// assert!(centroid_and_covariance(|| [[f64::NAN, 0.0, 0.0]].into_iter()).is_none());
+/// assert!(centroid_and_covariance(|| std::iter::empty()).is_none());
+/// ```
+pub fn centroid_and_covariance<I>(points: impl Fn() -> I) -> Option<(Vec3, [[f64; 3]; 3])>
+where
+    I: Iterator<Item = Vec3>,
+{
+    let mut count = 0usize;
+    let mut sum = [0.0f64; 3];
+    for p in points() {
+        if !(p[0].is_finite() && p[1].is_finite() && p[2].is_finite()) {
+            return None;
+        }
+        count += 1;
+        for k in 0..3 {
+            sum[k] += p[k];
+        }
+    }
+    if count == 0 {
+        return None;
+    }
+    let inv = 1.0 / count as f64;
+    let mean = sum.map(|s| s * inv);
+    // xx xy xz yy yz zz
+    let mut c = [0.0f64; 6];
+    for p in points() {
+        let d = [p[0] - mean[0], p[1] - mean[1], p[2] - mean[2]];
+        c[0] += d[0] * d[0];
+        c[1] += d[0] * d[1];
+        c[2] += d[0] * d[2];
+        c[3] += d[1] * d[1];
+        c[4] += d[1] * d[2];
+        c[5] += d[2] * d[2];
+    }
+    let [xx, xy, xz, yy, yz, zz] = c.map(|v| v * inv);
+    Some((mean, [[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]]))
+}
+
 /// The covariance of `points` as `[xx, yy, zz, xy, xz, yz]` (the entries
 /// [`symmetric_eigenvalues`] and [`smallest_eigenvector`] take), accumulated in one pass as
 /// offsets from `origin`, a point near them, so that coordinates far from zero keep their

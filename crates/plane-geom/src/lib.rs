@@ -22,7 +22,10 @@ mod plane;
 mod polygon;
 pub mod vec3;
 
-pub use eigen::{Eigen3, covariance, smallest_eigenvector, symmetric_eigen, symmetric_eigenvalues};
+pub use eigen::{
+    Eigen3, centroid_and_covariance, covariance, smallest_eigenvector, symmetric_eigen,
+    symmetric_eigenvalues,
+};
 pub use frame::PlaneFrame;
 pub use plane::Plane;
 pub use polygon::{Polygon3, PolygonMetrics, ring_area, ring_length};

@@ -2,7 +2,7 @@
 
 use crate::PostError;
 use crate::plane::Plane;
-use plane_geom::symmetric_eigen;
+use plane_geom::{centroid_and_covariance, symmetric_eigen};
 
 /// Options of [`fit_plane_with_options`].
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -96,36 +96,13 @@ where
     if count < 3 {
         return Err(PostError::TooFewPoints { found: count });
     }
-    let mut sum = [0.0f64; 3];
-    for (index, p) in iter() {
-        if !p.iter().all(|c| c.is_finite()) {
-            return Err(PostError::NonFinitePoint { index });
-        }
-        for k in 0..3 {
-            sum[k] += p[k];
-        }
-    }
-    let inv = 1.0 / count as f64;
-    let mean = [sum[0] * inv, sum[1] * inv, sum[2] * inv];
-    let mut cov = [0.0f64; 6]; // xx xy xz yy yz zz
-    for (_, p) in iter() {
-        let d = [p[0] - mean[0], p[1] - mean[1], p[2] - mean[2]];
-        cov[0] += d[0] * d[0];
-        cov[1] += d[0] * d[1];
-        cov[2] += d[0] * d[2];
-        cov[3] += d[1] * d[1];
-        cov[4] += d[1] * d[2];
-        cov[5] += d[2] * d[2];
-    }
-    for c in &mut cov {
-        *c *= inv;
-    }
-    let eig = symmetric_eigen([
-        [cov[0], cov[1], cov[2]],
-        [cov[1], cov[3], cov[4]],
-        [cov[2], cov[4], cov[5]],
-    ])
-    .ok_or(PostError::SpreadOverflow { count })?;
+    let Some((mean, covariance)) = centroid_and_covariance(|| iter().map(|(_, p)| p)) else {
+        let index = iter()
+            .find(|(_, p)| !p.iter().all(|c| c.is_finite()))
+            .map_or(0, |(index, _)| index);
+        return Err(PostError::NonFinitePoint { index });
+    };
+    let eig = symmetric_eigen(covariance).ok_or(PostError::SpreadOverflow { count })?;
     let eigenvalues = eig.values.map(|v| v.max(0.0));
     let scale = eigenvalues[2];
     // The plane is undetermined when the spread across the main direction vanishes.
@@ -153,7 +130,7 @@ where
     }
     Ok(PlaneFit {
         plane,
-        rmse: (sq * inv).sqrt(),
+        rmse: (sq * (1.0 / count as f64)).sqrt(),
         max_distance,
         point_count: count,
         eigenvalues,
