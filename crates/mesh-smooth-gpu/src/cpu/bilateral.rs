@@ -520,7 +520,9 @@ fn copy_borders(
 }
 
 /// Turns the weighted sums `a` of the interior cells from `own` into unit normals;
-/// a missing triangle, or one whose sum vanishes, keeps its normal.
+/// a missing triangle, or one whose sum vanishes, keeps its normal. A sum is scaled by
+/// its largest component first, so that the squares of small sums (weights near
+/// [`super::fast_exp::EXP_NEG_CUTOFF`]) stay normal `f32` numbers, as on the GPU.
 #[inline(always)]
 fn normalize(a: [&mut [f32]; 3], own: usize, normals: &Xyz, mask: &[f32]) {
     let [ax, ay, az] = a;
@@ -528,9 +530,11 @@ fn normalize(a: [&mut [f32]; 3], own: usize, normals: &Xyz, mask: &[f32]) {
     let [nx, ny, nz] = normals.each_ref().map(|n| &n[own..own + len]);
     let om = &mask[own..own + len];
     for i in 0..len {
-        let s = (ax[i] * ax[i] + ay[i] * ay[i] + az[i] * az[i]).sqrt();
-        let (x, y, z) = if om[i] > 0.0 && s > 0.0 {
-            (ax[i] / s, ay[i] / s, az[i] / s)
+        let m = ax[i].abs().max(ay[i].abs()).max(az[i].abs());
+        let (x, y, z) = if om[i] > 0.0 && m > 0.0 {
+            let (bx, by, bz) = (ax[i] / m, ay[i] / m, az[i] / m);
+            let s = (bx * bx + by * by + bz * bz).sqrt();
+            (bx / s, by / s, bz / s)
         } else {
             (nx[i], ny[i], nz[i])
         };

@@ -7,12 +7,16 @@ const LN_2: f32 = std::f32::consts::LN_2;
 /// the low mantissa bits.
 const ROUND_MAGIC: f32 = 12_582_912.0;
 const ROUND_MAGIC_BITS: u32 = 0x4B40_0000;
-/// Beyond this `exp(−e)` is subnormal in `f32`; the filter treats such weights as 0, as GPUs
-/// that flush subnormals do.
-pub(crate) const EXP_NEG_CUTOFF: f32 = 87.0;
+/// Beyond this the filter takes `exp(−e)` as 0. A weight of `exp(−50) ≈ 2e-22` times a
+/// normal's component stays a normal `f32` (down to components of 1e-16); smaller weights
+/// give subnormal products, which GPUs flush to zero and CPUs keep, so that a triangle
+/// whose every weight lies below this would get a different normal on each (or the
+/// normal of one rounding-dominated neighbour). Such a triangle, unlike all of its
+/// neighbours, keeps its own normal on both backends; the GPU kernel uses the same value.
+pub(crate) const EXP_NEG_CUTOFF: f32 = 50.0;
 
 /// `exp(−e)` for `e ≥ 0`, relative error below 1e-6 for `e ≤ 10` (a few ulp of the
-/// reduced argument beyond), exactly 0 for `e > 87`.
+/// reduced argument beyond), exactly 0 for `e >` [`EXP_NEG_CUTOFF`].
 ///
 /// `exp(−e) = 2^i · exp(f · ln 2)` with `i = round(−e · log2 e)`, `|f| ≤ 1/2`, the second
 /// factor by a degree-6 Taylor polynomial (truncation error < 2e-7 on that interval) and
@@ -45,7 +49,7 @@ mod tests {
     fn matches_libm() {
         let mut worst = 0.0f64;
         for k in 0..=200_000 {
-            let e = k as f32 * 1e-4 * 87.0 / 20.0;
+            let e = k as f32 * 1e-4 * EXP_NEG_CUTOFF / 20.0;
             let got = f64::from(exp_neg(e));
             let want = (-f64::from(e)).exp();
             let rel = ((got - want) / want).abs();
@@ -59,8 +63,8 @@ mod tests {
     #[test]
     fn edges() {
         assert_eq!(exp_neg(0.0), 1.0);
-        assert_eq!(exp_neg(87.5), 0.0);
+        assert_eq!(exp_neg(EXP_NEG_CUTOFF + 0.5), 0.0);
         assert_eq!(exp_neg(f32::INFINITY), 0.0);
-        assert!(exp_neg(86.9) > 0.0);
+        assert!(exp_neg(EXP_NEG_CUTOFF - 0.1) > 0.0);
     }
 }

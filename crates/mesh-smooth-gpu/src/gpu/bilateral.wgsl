@@ -15,8 +15,9 @@ struct Params {
     pad2: f32,
 }
 
-// exp(-e) is taken as 0 beyond this, as on the CPU.
-const EXP_NEG_CUTOFF: f32 = 87.0;
+// exp(-e) is taken as 0 beyond this, as on the CPU (`cpu::fast_exp::EXP_NEG_CUTOFF`): smaller
+// weights give subnormal products, which GPUs flush to zero.
+const EXP_NEG_CUTOFF: f32 = 50.0;
 
 @group(0) @binding(0) var<uniform> params: Params;
 @group(0) @binding(1) var<storage, read> points: array<vec4<f32>>;
@@ -123,9 +124,12 @@ fn filter_normals(@builtin(global_invocation_id) id: vec3<u32>) {
                 }
             }
         }
-        let s = sqrt(ax * ax + ay * ay + az * az);
-        if (s > 0.0) {
-            normals_out[slot] = vec4<f32>(ax / s, ay / s, az / s, 1.0);
+        // Scaled by the largest component first, so that the squares of small sums do
+        // not flush to zero (as `normalize` on the CPU).
+        let m = max(abs(ax), max(abs(ay), abs(az)));
+        if (m > 0.0) {
+            let b = vec3<f32>(ax, ay, az) / m;
+            normals_out[slot] = vec4<f32>(b / sqrt(dot(b, b)), 1.0);
         } else {
             normals_out[slot] = own;
         }
