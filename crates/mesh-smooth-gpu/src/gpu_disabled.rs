@@ -40,6 +40,20 @@ impl GpuSmoother {
         match self.never {}
     }
 
+    /// The per-pixel Laplacian filter on the GPU (never called: no value of this type
+    /// exists).
+    ///
+    /// # Errors
+    /// None can occur.
+    pub fn laplacian_per_pixel(
+        &mut self,
+        _cloud: &OrganizedPointCloud,
+        _options: &LaplacianOptions,
+        _passes: &[u8],
+    ) -> Result<OrganizedPointCloud, SmoothError> {
+        match self.never {}
+    }
+
     /// The bilateral filter on the GPU (never called: no value of this type exists).
     ///
     /// # Errors

@@ -175,6 +175,21 @@ impl BilateralOptions {
     }
 }
 
+/// Refuses per-pixel pass counts that are not one per point of `cloud`.
+pub(crate) fn check_passes(
+    passes: &[u8],
+    cloud: &opc_mesh::OrganizedPointCloud,
+) -> Result<(), SmoothError> {
+    if passes.len() == cloud.points().len() {
+        return Ok(());
+    }
+    Err(SmoothError::InvalidParameter {
+        name: "passes",
+        value: passes.len() as f64,
+        reason: "needs one pass count per point of the cloud",
+    })
+}
+
 fn check_kernel(kernel: u32) -> Result<(), SmoothError> {
     if kernel < 3 || kernel.is_multiple_of(2) || kernel > MAX_KERNEL {
         return Err(SmoothError::InvalidKernel { kernel });

@@ -10,6 +10,8 @@ use common::{max_normal_difference, max_relative_difference, wavy_cloud};
 use mesh_smooth_gpu::{
     BilateralOptions, CpuSmoother, GpuSmoother, LaplacianOptions, SmoothError, Smoother,
 };
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
 
 /// Laplacian points: |gpu − cpu| ≤ this × (1 + |coordinate|).
 const LAPLACIAN_TOLERANCE: f64 = 1e-5;
@@ -68,6 +70,56 @@ fn laplacian_matches_cpu_on_random_clouds() {
             }
         }
     }
+}
+
+#[test]
+fn per_pixel_laplacian_matches_cpu_on_random_clouds() {
+    let Some(mut gpu) = gpu() else { return };
+    for (seed, (rows, cols)) in [(40, 57), (3, 3), (64, 31), (97, 120)]
+        .into_iter()
+        .enumerate()
+    {
+        let cloud = wavy_cloud(rows, cols, 50 + seed as u64, 0.01, 0.08);
+        let mut rng = ChaCha8Rng::seed_from_u64(seed as u64);
+        for max_passes in [0u8, 1, 4, 9] {
+            let passes: Vec<u8> = (0..rows * cols)
+                .map(|_| rng.random_range(0..=max_passes))
+                .collect();
+            for kernel in [3, 5] {
+                let options = LaplacianOptions::new().with_kernel(kernel).with_lambda(0.8);
+                let mut cpu = cloud.clone();
+                CpuSmoother::serial()
+                    .laplacian_in_place_per_pixel(&mut cpu, &options, &passes)
+                    .expect("valid options");
+                let on_gpu = gpu
+                    .laplacian_per_pixel(&cloud, &options, &passes)
+                    .expect("GPU run");
+                let diff = max_relative_difference(on_gpu.points(), cpu.points());
+                assert!(
+                    diff <= LAPLACIAN_TOLERANCE,
+                    "{rows}×{cols} kernel {kernel} up to {max_passes} passes: difference {diff}"
+                );
+                // Points with no pass keep their f64 coordinates exactly.
+                for (i, (&n, (g, c))) in passes
+                    .iter()
+                    .zip(on_gpu.points().iter().zip(cloud.points()))
+                    .enumerate()
+                {
+                    if n == 0 && opc_mesh::is_valid(c) {
+                        assert_eq!(g, c, "point {i} has no pass but moved");
+                    }
+                }
+            }
+        }
+    }
+    let cloud = wavy_cloud(10, 10, 1, 0.01, 0.0);
+    let error = gpu
+        .laplacian_per_pixel(&cloud, &LaplacianOptions::new(), &[1; 99])
+        .expect_err("99 counts for 100 points");
+    assert!(matches!(
+        error,
+        SmoothError::InvalidParameter { name: "passes", .. }
+    ));
 }
 
 #[test]

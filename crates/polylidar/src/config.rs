@@ -174,7 +174,7 @@ pub struct LaplacianConfig {
     /// [`Self::iterations`] fixes or predicts and `r_median` the median range of the
     /// cloud's points; range is the distance from the origin of the cloud's frame (the
     /// sensor, for clouds in camera coordinates). 0 (the default): `n` passes everywhere.
-    /// In `[0, 4]`. The GPU backend runs `n` passes everywhere.
+    /// In `[0, 4]`.
     pub range_exponent: f64,
     /// Where to run.
     pub backend: SmoothingBackend,
@@ -532,6 +532,26 @@ impl Config {
     /// Sets [`Config::threads`].
     pub fn with_threads(mut self, threads: usize) -> Self {
         self.threads = threads;
+        self
+    }
+
+    /// Runs both smoothing filters (those the config has) on `backend`.
+    ///
+    /// ```
+    /// use polylidar::{Config, SmoothingBackend};
+    ///
+    /// let config = Config::preset("rgbd")
+    ///     .expect("rgbd preset")
+    ///     .with_smoothing_backend(SmoothingBackend::Cpu);
+    /// assert_eq!(config.bilateral.map(|b| b.backend), Some(SmoothingBackend::Cpu));
+    /// ```
+    pub fn with_smoothing_backend(mut self, backend: SmoothingBackend) -> Self {
+        if let Some(l) = self.laplacian.as_mut() {
+            l.backend = backend;
+        }
+        if let Some(b) = self.bilateral.as_mut() {
+            b.backend = backend;
+        }
         self
     }
 

@@ -9,7 +9,7 @@ use mesh_smooth_gpu::SmoothError;
 use opc_mesh::{OpcMeshOptions, OrganizedPointCloud, OrganizedPointCloudView};
 use polypost::{Plane, Polygon3, PostProcessor};
 
-use crate::config::{LaplacianConfig, LaplacianIterations, SmoothingBackend};
+use crate::config::{LaplacianConfig, LaplacianIterations};
 use crate::reuse;
 use crate::{
     Counts, ExtractedPolygon, Extraction, Polylidar, PolylidarError, PostprocessedPolygon, Timings,
@@ -301,7 +301,7 @@ fn laplacian(
         return Ok(0);
     }
     let options = l.options(iterations);
-    let passes = (l.range_exponent > 0.0 && l.backend != SmoothingBackend::Gpu)
+    let passes = (l.range_exponent > 0.0)
         .then(|| mesh_smooth_gpu::passes_by_range(cloud, iterations, l.range_exponent))
         .flatten();
     if let Some(passes) = passes {

@@ -94,8 +94,7 @@ impl Reusable {
     }
 
     /// The Laplacian filter of `cloud` with a pass count per pixel, overwriting it, on the
-    /// kept CPU smoother of `backend` (the GPU has no per-pixel counts: the caller runs
-    /// uniform passes there).
+    /// kept smoother of `backend` (the GPU filters into a new cloud that replaces it).
     pub fn laplacian_per_pixel(
         &mut self,
         backend: SmoothingBackend,
@@ -103,8 +102,15 @@ impl Reusable {
         options: &LaplacianOptions,
         passes: &[u8],
     ) -> Result<(), SmoothError> {
-        self.cpu(backend)
-            .laplacian_in_place_per_pixel(cloud, options, passes)
+        match backend {
+            SmoothingBackend::Gpu => {
+                *cloud = self.gpu()?.laplacian_per_pixel(cloud, options, passes)?;
+                Ok(())
+            }
+            cpu => self
+                .cpu(cpu)
+                .laplacian_in_place_per_pixel(cloud, options, passes),
+        }
     }
 
     /// The bilateral normal filter of `cloud`'s implicit mesh, written into `opc`'s

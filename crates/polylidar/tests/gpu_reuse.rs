@@ -25,14 +25,10 @@ fn ridge(shift: usize) -> OrganizedPointCloud {
 }
 
 fn config(backend: SmoothingBackend) -> Config {
-    let mut config = Config::preset("rgbd").expect("rgbd preset");
+    let mut config = Config::preset("rgbd")
+        .expect("rgbd preset")
+        .with_smoothing_backend(backend);
     config.min_triangles = 200;
-    if let Some(l) = config.laplacian.as_mut() {
-        l.backend = backend;
-    }
-    if let Some(b) = config.bilateral.as_mut() {
-        b.backend = backend;
-    }
     config
 }
 

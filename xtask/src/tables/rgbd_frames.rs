@@ -8,12 +8,13 @@ use std::fmt::Write as _;
 use std::time::Instant;
 
 use opc_mesh::{DepthOptions, Intrinsics};
-use polylidar::{Config, OrganizedPointCloud, Polylidar};
+use polylidar::{Config, OrganizedPointCloud, Polylidar, SmoothingBackend};
 
 use crate::bench::Ctx;
 use crate::error::{Result, msg};
 use crate::report::Table;
 use crate::tables::pipeline::STAGES;
+use crate::tables::smoothing::{GPU_HINT, gpu_adapter};
 use crate::timing::{Stats, median_of, ms};
 
 /// Depth range (mm) assumed for the colorized RealSense pictures (as the first part).
@@ -159,12 +160,10 @@ pub fn section(ctx: &Ctx) -> Result<String> {
         .map(str::to_owned),
     );
     let mut table = Table::new(header);
+    let (variants, gpu_note) = variants(threads)?;
     for size in &sizes {
-        for preset in ["rgbd", "rgbd-auto"] {
-            let config = Config::preset(preset)
-                .ok_or_else(|| msg(format!("no {preset} preset")))?
-                .with_threads(threads);
-            let polylidar = Polylidar::new(config)?;
+        for (preset, config) in &variants {
+            let polylidar = Polylidar::new(config.clone())?;
             // Warm-up: one pass over the frames (thread pool, FastGA, buffers).
             for cloud in &size.frames {
                 drop(polylidar.extract_organized(cloud)?);
@@ -193,7 +192,7 @@ pub fn section(ctx: &Ctx) -> Result<String> {
             }
             let p90 = nearest_rank(&wall, 0.9);
             let wall = Stats::from_samples(wall).ok_or_else(|| msg("no timed frames"))?;
-            let mut row = vec![size.name.clone(), preset.to_owned()];
+            let mut row = vec![size.name.clone(), preset.clone()];
             row.extend(
                 per_stage
                     .iter()
@@ -269,9 +268,43 @@ pub fn section(ctx: &Ctx) -> Result<String> {
          authors' machine); it finds planes and cylinders as cell-grid segments and makes \
          no polygons, so it is context, not a like-for-like comparison. The paper's row is \
          Polylidar3D's Table 8 (stage means of whole recorded scenes, smoothing on the GPU, \
-         4 threads for planes and polygons).\n{notes}"
+         4 threads for planes and polygons).\n{gpu_note}\n{notes}"
     );
     Ok(body)
+}
+
+/// The configurations each frame size runs, by name: presets `rgbd` and `rgbd-auto` on
+/// `threads` CPU threads, and both again with their smoothing on the GPU where a hardware
+/// adapter exists; and a note on the GPU rows.
+fn variants(threads: usize) -> Result<(Vec<(String, Config)>, String)> {
+    let preset = |name: &str| {
+        Config::preset(name)
+            .map(|c| c.with_threads(threads))
+            .ok_or_else(|| msg(format!("no {name} preset")))
+    };
+    let mut variants = vec![
+        ("rgbd".to_owned(), preset("rgbd")?),
+        ("rgbd-auto".to_owned(), preset("rgbd-auto")?),
+    ];
+    let note = match gpu_adapter() {
+        Ok((_, summary, false)) => {
+            for name in ["rgbd", "rgbd-auto"] {
+                variants.push((
+                    format!("{name}, GPU smoothing"),
+                    preset(name)?.with_smoothing_backend(SmoothingBackend::Gpu),
+                ));
+            }
+            format!(
+                "* *GPU smoothing* rows run both filters on the adapter {summary} (upload \
+                 and read-back included), everything else on {threads} CPU threads."
+            )
+        }
+        Ok((_, summary, true)) => format!(
+            "* No GPU rows: the only adapter, {summary}, is a software rasterizer on the CPU."
+        ),
+        Err(e) => format!("* No GPU rows: {e}. {GPU_HINT}"),
+    };
+    Ok((variants, note))
 }
 
 /// The `p`-th quantile (0–1) of `samples`, nearest rank.

@@ -3,7 +3,7 @@
 
 use std::fmt::Write as _;
 
-use mesh_smooth_gpu::{BilateralOptions, CpuSmoother, GpuSmoother, LaplacianOptions};
+use mesh_smooth_gpu::{BilateralOptions, CpuSmoother, GpuSmoother, LaplacianOptions, SmoothError};
 use opc_mesh::OrganizedPointCloud;
 
 use crate::bench::Ctx;
@@ -272,10 +272,8 @@ fn setup(ctx: &Ctx) -> Result<Setup> {
             "neither {FIXTURES_NAME}/synpeb/pc_01.pcd nor realsense/rgbd_opc.npy exists"
         )));
     }
-    let (gpu, gpu_note) = match GpuSmoother::new() {
-        Ok(gpu) => {
-            let summary = gpu.adapter_summary();
-            let software = is_software(&summary);
+    let (gpu, gpu_note) = match gpu_adapter() {
+        Ok((gpu, summary, software)) => {
             let note = format!(
                 "GPU rows: adapter {summary}{}.",
                 if software {
@@ -287,19 +285,29 @@ fn setup(ctx: &Ctx) -> Result<Setup> {
             );
             (Some(gpu), note)
         }
-        Err(e) => (
-            None,
-            format!(
-                "No GPU rows: {e}. Build with `cargo run -p xtask --release --features gpu -- \
-                 bench` on a machine with a Vulkan, Metal, DX12 or GL adapter to add them."
-            ),
-        ),
+        Err(e) => (None, format!("No GPU rows: {e}. {GPU_HINT}")),
     };
     Ok(Setup {
         clouds,
         gpu,
         gpu_note,
     })
+}
+
+/// How to get GPU rows where a table has none.
+pub(crate) const GPU_HINT: &str = "Build with `cargo run -p xtask --release --features gpu -- bench` \
+     on a machine with a Vulkan, Metal, DX12 or GL adapter to add them.";
+
+/// The GPU smoother on the adapter wgpu picks, its summary, and whether that adapter is
+/// a CPU (software) implementation.
+///
+/// # Errors
+/// No adapter, or a build without the `gpu` feature.
+pub(crate) fn gpu_adapter() -> std::result::Result<(GpuSmoother, String, bool), SmoothError> {
+    let gpu = GpuSmoother::new()?;
+    let summary = gpu.adapter_summary();
+    let software = is_software(&summary);
+    Ok((gpu, summary, software))
 }
 
 /// Whether an adapter summary names a CPU (software) implementation.

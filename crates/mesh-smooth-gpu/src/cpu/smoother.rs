@@ -133,13 +133,7 @@ impl CpuSmoother {
         passes: &[u8],
     ) -> Result<(), SmoothError> {
         options.validate()?;
-        if passes.len() != cloud.points().len() {
-            return Err(SmoothError::InvalidParameter {
-                name: "passes",
-                value: passes.len() as f64,
-                reason: "needs one pass count per point of the cloud",
-            });
-        }
+        crate::options::check_passes(passes, cloud)?;
         let passes = Passes::PerPixel(passes);
         laplacian_in_place(&mut self.laplacian, cloud, options, passes, self.parallel);
         Ok(())

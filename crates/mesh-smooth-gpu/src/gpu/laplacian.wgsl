@@ -1,6 +1,8 @@
 // Laplacian vertex filter on an organized cloud, one invocation per pixel.
-// Points are vec4: xyz and w = 0 (invalid; xyz = 0), 1 (valid), 2 (valid and filtered by
-// this pass). Mirrors the CPU row kernel operation for operation.
+// Points are vec4: xyz and w = 0 (invalid; xyz = 0), or, for a valid point, 1 + the passes it
+// has left, plus MOVED once a pass has moved it. A pass moves the valid interior points with
+// passes left and valid neighbours; the others keep their place (and w) and still weigh in
+// their neighbours' means. Mirrors the CPU row kernel operation for operation.
 
 struct Params {
     rows: u32,
@@ -12,6 +14,9 @@ struct Params {
     pad1: f32,
     pad2: f32,
 }
+
+// Matches `MOVED` in gpu/mod.rs.
+const MOVED: f32 = 1024.0;
 
 @group(0) @binding(0) var<uniform> params: Params;
 @group(0) @binding(1) var<storage, read> src: array<vec4<f32>>;
@@ -29,9 +34,9 @@ fn laplacian(@builtin(global_invocation_id) id: vec3<u32>) {
     let i = r * cols + c;
     let v = src[i];
     let h = params.half;
-    let valid = min(v.w, 1.0);
-    if (valid == 0.0 || r < h || c < h || r + h >= rows || c + h >= cols) {
-        dst[i] = vec4<f32>(v.xyz, valid);
+    let left = v.w - select(0.0, MOVED, v.w >= MOVED) - 1.0;
+    if (v.w == 0.0 || left < 1.0 || r < h || c < h || r + h >= rows || c + h >= cols) {
+        dst[i] = v;
         return;
     }
     var sx = 0.0;
@@ -63,9 +68,9 @@ fn laplacian(@builtin(global_invocation_id) id: vec3<u32>) {
             v.x + lambda * (sx / sw - v.x),
             v.y + lambda * (sy / sw - v.y),
             v.z + lambda * (sz / sw - v.z),
-            2.0,
+            MOVED + left,
         );
     } else {
-        dst[i] = vec4<f32>(v.xyz, valid);
+        dst[i] = v;
     }
 }

@@ -19,6 +19,8 @@ use crate::{BilateralOptions, LaplacianOptions, SlotNormals, SmoothError};
 const WORKGROUP_SIDE: u32 = 16;
 /// Bytes of one `vec4<f32>`.
 const VEC4_BYTES: u64 = 16;
+/// Added to a point's `w` by the Laplacian pass that first moves it (`laplacian.wgsl`).
+const MOVED: f32 = 1024.0;
 /// Bytes of the uniform parameter block (8 × 4-byte words).
 const PARAMS_BYTES: u64 = 32;
 
@@ -177,9 +179,43 @@ impl GpuSmoother {
         options: &LaplacianOptions,
     ) -> Result<OrganizedPointCloud, SmoothError> {
         options.validate()?;
+        self.run_laplacian(cloud, options, None)
+    }
+
+    /// The Laplacian filter with a pass count per pixel, as
+    /// [`crate::CpuSmoother::laplacian_in_place_per_pixel`] (into a new cloud): pixel `i`
+    /// moves in the first `passes[i]` passes only and keeps its place afterwards, still
+    /// weighing in its neighbours' means; `options.iterations` is ignored.
+    ///
+    /// # Errors
+    /// Invalid options, `passes` not one entry per point, a cloud too large for the
+    /// device, or a GPU failure.
+    pub fn laplacian_per_pixel(
+        &mut self,
+        cloud: &OrganizedPointCloud,
+        options: &LaplacianOptions,
+        passes: &[u8],
+    ) -> Result<OrganizedPointCloud, SmoothError> {
+        options.validate()?;
+        crate::options::check_passes(passes, cloud)?;
+        self.run_laplacian(cloud, options, Some(passes))
+    }
+
+    /// Uploads `cloud` with each valid point's pass count (`passes`, else
+    /// `options.iterations`) in its `w`, runs the largest count of passes and reads back
+    /// the points that moved. Options and `passes` are validated.
+    fn run_laplacian(
+        &mut self,
+        cloud: &OrganizedPointCloud,
+        options: &LaplacianOptions,
+        passes: Option<&[u8]>,
+    ) -> Result<OrganizedPointCloud, SmoothError> {
         let (rows, cols) = (cloud.rows(), cloud.cols());
         let half = options.kernel / 2;
-        if options.iterations == 0 || rows <= 2 * half as usize || cols <= 2 * half as usize {
+        let iterations = passes.map_or(options.iterations, |p| {
+            u32::from(p.iter().copied().max().unwrap_or(0))
+        });
+        if iterations == 0 || rows <= 2 * half as usize || cols <= 2 * half as usize {
             return Ok(cloud.clone());
         }
         let scopes = ErrorScopes::push(&self.device);
@@ -187,8 +223,11 @@ impl GpuSmoother {
         let Some(buffers) = self.buffers.as_ref() else {
             return Err(missing_buffers());
         };
+        let points = upload(cloud, |i| {
+            passes.map_or(iterations as f32, |p| f32::from(p[i])) + 1.0
+        });
         self.queue
-            .write_buffer(&buffers.point_a, 0, bytemuck::cast_slice(&upload(cloud)));
+            .write_buffer(&buffers.point_a, 0, bytemuck::cast_slice(&points));
         self.write_params(rows, cols, half, options.lambda, options.epsilon);
         let mut encoder = self
             .device
@@ -201,7 +240,7 @@ impl GpuSmoother {
                 timestamp_writes: None,
             });
             pass.set_pipeline(&self.laplacian);
-            for it in 0..options.iterations {
+            for it in 0..iterations {
                 let group = if it % 2 == 0 {
                     &buffers.laplacian_ab
                 } else {
@@ -211,7 +250,7 @@ impl GpuSmoother {
                 pass.dispatch_workgroups(groups(cols), groups(rows), 1);
             }
         }
-        let result = if options.iterations.is_multiple_of(2) {
+        let result = if iterations.is_multiple_of(2) {
             &buffers.point_a
         } else {
             &buffers.point_b
@@ -220,7 +259,7 @@ impl GpuSmoother {
         scopes.pop()?;
         let mut out = cloud.clone();
         for (p, v) in out.points_mut().iter_mut().zip(&data) {
-            if v[3] == 2.0 {
+            if v[3] >= MOVED {
                 *p = [f64::from(v[0]), f64::from(v[1]), f64::from(v[2])];
             }
         }
@@ -244,8 +283,11 @@ impl GpuSmoother {
         let Some(buffers) = self.buffers.as_ref() else {
             return Err(missing_buffers());
         };
-        self.queue
-            .write_buffer(&buffers.point_a, 0, bytemuck::cast_slice(&upload(cloud)));
+        self.queue.write_buffer(
+            &buffers.point_a,
+            0,
+            bytemuck::cast_slice(&upload(cloud, |_| 1.0)),
+        );
         let (inv_var_length, inv_var_angle) = options.inverse_variances();
         self.write_params(
             rows,
@@ -516,13 +558,16 @@ fn groups(n: usize) -> u32 {
 }
 
 /// The cloud as vec4s: xyz and w = 1 for valid points, all zero for invalid ones.
-fn upload(cloud: &OrganizedPointCloud) -> Vec<[f32; 4]> {
+/// The cloud as `vec4<f32>`: a valid point `i` with `w = valid_w(i)` (≥ 1), an invalid
+/// one as zeros.
+fn upload(cloud: &OrganizedPointCloud, valid_w: impl Fn(usize) -> f32) -> Vec<[f32; 4]> {
     cloud
         .points()
         .iter()
-        .map(|p| {
+        .enumerate()
+        .map(|(i, p)| {
             if opc_mesh::is_valid(p) {
-                [p[0] as f32, p[1] as f32, p[2] as f32, 1.0]
+                [p[0] as f32, p[1] as f32, p[2] as f32, valid_w(i)]
             } else {
                 [0.0; 4]
             }
