@@ -222,7 +222,8 @@ pub struct GenerateArgs {
 /// Which apply: 2D points use `alpha`, `lmax`, `min-triangles`, `min-hole-vertices`;
 /// unorganized 3D clouds (2.5D) also `norm-thresh` and `up`; organized clouds and meshes
 /// (3D) use `lmax`, `min-triangles`, `min-hole-vertices`, `norm-thresh`, `z-thresh` and,
-/// organized only, `no-smoothing`. A flag that does not apply is reported and ignored.
+/// organized only, `no-smoothing` and `gpu`. A flag that does not apply is reported and
+/// ignored.
 #[derive(Debug, Args, Default)]
 pub struct ParamArgs {
     /// 2D / 2.5D: keep triangles whose circumradius is at most this (0 disables), in
@@ -304,6 +305,15 @@ pub struct ParamArgs {
     /// Organized clouds: skip the preset's Laplacian and bilateral smoothing.
     #[arg(long, help_heading = "Parameters (override the preset and --config)")]
     pub no_smoothing: bool,
+    /// Organized clouds: run the Laplacian and bilateral smoothing on the GPU (wgpu:
+    /// Vulkan, Metal, DX12 or GL), in a build with the `gpu` feature
+    /// (`cargo install polylidar-cli --features gpu`).
+    #[arg(
+        long,
+        conflicts_with = "no_smoothing",
+        help_heading = "Parameters (override the preset and --config)"
+    )]
+    pub gpu: bool,
 }
 
 /// `--norm-thresh`: a cosine or an angle in degrees ([`polylidar::parse_cosine`]).

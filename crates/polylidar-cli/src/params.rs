@@ -4,7 +4,7 @@
 use std::path::Path;
 
 use polylidar::scale::{alpha_for_spacing, convert_lengths, lmax_for_spacing};
-use polylidar::{Config, Preset};
+use polylidar::{Config, Preset, SmoothingBackend};
 use polylidar_io::LengthUnit;
 
 use crate::args::{Demo, InputArgs, Mode, ParamArgs};
@@ -396,6 +396,7 @@ fn apply_flags(config: &mut Config, flags: &ParamArgs) -> Result<(), CliError> {
         up,
         threads,
         no_smoothing,
+        gpu,
     } = flags;
     if let Some(v) = alpha {
         config.alpha = *v;
@@ -436,6 +437,17 @@ fn apply_flags(config: &mut Config, flags: &ParamArgs) -> Result<(), CliError> {
     if *no_smoothing {
         config.laplacian = None;
         config.bilateral = None;
+    }
+    if *gpu {
+        if !cfg!(feature = "gpu") {
+            return Err(CliError::Unsupported {
+                what: "--gpu needs a polylidar built with the `gpu` feature (`cargo install \
+                       polylidar-cli --features gpu`, or `cargo run -p polylidar-cli \
+                       --features gpu` in the workspace)"
+                    .to_owned(),
+            });
+        }
+        *config = config.clone().with_smoothing_backend(SmoothingBackend::Gpu);
     }
     Ok(())
 }

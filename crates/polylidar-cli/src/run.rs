@@ -300,6 +300,7 @@ fn inapplicable(args: &InputArgs, input: &Input) -> Vec<String> {
             "--no-smoothing",
             p.no_smoothing && !matches!(input, Input::Organized(_)),
         ),
+        ("--gpu", p.gpu && !matches!(input, Input::Organized(_))),
     ];
     given
         .into_iter()
