@@ -54,6 +54,22 @@ impl GpuSmoother {
         match self.never {}
     }
 
+    /// The Laplacian and bilateral filters on the GPU in one go (never called: no value
+    /// of this type exists).
+    ///
+    /// # Errors
+    /// None can occur.
+    pub fn laplacian_then_bilateral<R>(
+        &mut self,
+        _cloud: &OrganizedPointCloud,
+        _laplacian: &LaplacianOptions,
+        _passes: Option<&[u8]>,
+        _bilateral: &BilateralOptions,
+        _between: impl FnOnce(&OrganizedPointCloud) -> R,
+    ) -> Result<(OrganizedPointCloud, R, SlotNormals), SmoothError> {
+        match self.never {}
+    }
+
     /// The bilateral filter on the GPU (never called: no value of this type exists).
     ///
     /// # Errors

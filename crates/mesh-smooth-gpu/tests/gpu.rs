@@ -123,6 +123,54 @@ fn per_pixel_laplacian_matches_cpu_on_random_clouds() {
 }
 
 #[test]
+fn laplacian_then_bilateral_is_the_two_calls_in_one() {
+    let Some(mut gpu) = gpu() else { return };
+    let normal_bits =
+        |n: &[[f32; 3]]| -> Vec<[u32; 3]> { n.iter().map(|v| v.map(f32::to_bits)).collect() };
+    for (seed, (rows, cols)) in [(40, 57), (3, 3), (64, 31)].into_iter().enumerate() {
+        let cloud = wavy_cloud(rows, cols, 70 + seed as u64, 0.01, 0.08);
+        let mut rng = ChaCha8Rng::seed_from_u64(seed as u64);
+        let passes: Vec<u8> = (0..rows * cols).map(|_| rng.random_range(0..=5)).collect();
+        for iterations in [0, 1, 2, 3] {
+            let laplacian = LaplacianOptions::new().with_iterations(iterations);
+            let bilateral = BilateralOptions::new().with_iterations(2);
+            for per_pixel in [None, Some(passes.as_slice())] {
+                let smoothed = match per_pixel {
+                    Some(p) => gpu.laplacian_per_pixel(&cloud, &laplacian, p),
+                    None => gpu.laplacian(&cloud, &laplacian),
+                }
+                .expect("GPU run");
+                let normals = gpu.bilateral(&smoothed, &bilateral).expect("GPU run");
+                let (fused, seen, fused_normals) = gpu
+                    .laplacian_then_bilateral(&cloud, &laplacian, per_pixel, &bilateral, |c| {
+                        common::bits(c.points())
+                    })
+                    .expect("GPU run");
+                let what = format!(
+                    "{rows}×{cols}, {iterations} it, per pixel {}",
+                    per_pixel.is_some()
+                );
+                assert_eq!(
+                    common::bits(fused.points()),
+                    common::bits(smoothed.points()),
+                    "{what}"
+                );
+                assert_eq!(
+                    seen,
+                    common::bits(smoothed.points()),
+                    "{what}: `between` sees it"
+                );
+                assert_eq!(
+                    normal_bits(fused_normals.as_slice()),
+                    normal_bits(normals.as_slice()),
+                    "{what}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
 fn bilateral_matches_cpu_on_random_clouds() {
     let Some(mut gpu) = gpu() else { return };
     for (seed, (rows, cols)) in [(40, 57), (2, 2), (3, 8), (64, 31), (97, 120)]

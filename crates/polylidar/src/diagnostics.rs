@@ -95,6 +95,11 @@ impl Timings {
         self.stages = earlier.stages;
     }
 
+    /// Records `duration` under `stage`.
+    pub(crate) fn record(&mut self, stage: &'static str, duration: Duration) {
+        self.stages.push((stage, duration));
+    }
+
     /// Runs `f`, recording its duration under `stage`.
     pub(crate) fn time<T>(&mut self, stage: &'static str, f: impl FnOnce() -> T) -> T {
         let start = Instant::now();

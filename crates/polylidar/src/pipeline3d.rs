@@ -4,12 +4,13 @@
 use fastga::FastGa;
 use halfedge_mesh::{HalfEdgeMesh, MeshOptions};
 use std::borrow::Cow;
+use std::time::Instant;
 
 use mesh_smooth_gpu::SmoothError;
-use opc_mesh::{OpcMeshOptions, OrganizedPointCloud, OrganizedPointCloudView};
+use opc_mesh::{OpcMesh, OpcMeshOptions, OrganizedPointCloud, OrganizedPointCloudView};
 use polypost::{Plane, Polygon3, PostProcessor};
 
-use crate::config::{LaplacianConfig, LaplacianIterations};
+use crate::config::{BilateralConfig, LaplacianConfig, LaplacianIterations, SmoothingBackend};
 use crate::reuse;
 use crate::{
     Counts, ExtractedPolygon, Extraction, Polylidar, PolylidarError, PostprocessedPolygon, Timings,
@@ -85,21 +86,35 @@ impl Polylidar {
             if let (Some(f), Some(c)) = (&config.fill_missing, &mut cloud) {
                 filled = timings.time("fill", || c.to_mut().fill_missing(f));
             }
-            let mut laplacian_iterations = 0;
-            if let (Some(l), Some(c)) = (&config.laplacian, &mut cloud) {
-                laplacian_iterations = timings.time("laplacian", || laplacian(&mut reuse, l, c))?;
-            }
             // The bilateral filter replaces every triangle normal: meshing skips them then.
             let options = OpcMeshOptions::new().with_compute_normals(config.bilateral.is_none());
-            let mut opc = timings.time("mesh", || match &cloud {
-                Some(c) => c.mesh(&options),
-                None => input.mesh(&options),
-            })?;
-            if let (Some(b), Some(c)) = (&config.bilateral, &cloud) {
-                timings.time("bilateral", || {
-                    reuse.bilateral(b.backend, c, &b.options(), &mut opc)
-                })?;
-            }
+            let mut laplacian_iterations = 0;
+            let opc = match (&config.laplacian, &config.bilateral, &mut cloud) {
+                (Some(l), Some(b), Some(c))
+                    if l.backend == SmoothingBackend::Gpu && b.backend == SmoothingBackend::Gpu =>
+                {
+                    let (iterations, opc) =
+                        smooth_on_gpu(&mut reuse, l, b, c, &options, &mut timings)?;
+                    laplacian_iterations = iterations;
+                    opc
+                }
+                _ => {
+                    if let (Some(l), Some(c)) = (&config.laplacian, &mut cloud) {
+                        laplacian_iterations =
+                            timings.time("laplacian", || laplacian(&mut reuse, l, c))?;
+                    }
+                    let mut opc = timings.time("mesh", || match &cloud {
+                        Some(c) => c.mesh(&options),
+                        None => input.mesh(&options),
+                    })?;
+                    if let (Some(b), Some(c)) = (&config.bilateral, &cloud) {
+                        timings.time("bilateral", || {
+                            reuse.bilateral(b.backend, c, &b.options(), &mut opc)
+                        })?;
+                    }
+                    opc
+                }
+            };
             // `extract_planes` takes the lock again for FastGA.
             drop(reuse);
             let filled_count = filled.iter().filter(|&&f| f).count();
@@ -285,25 +300,67 @@ impl Polylidar {
     }
 }
 
+/// The Laplacian passes `l` runs on `cloud`: the fixed count, or the one predicted from
+/// the cloud's noise (at the median range when the passes grow with range); and the
+/// count of each pixel when they grow with range.
+fn laplacian_passes(l: &LaplacianConfig, cloud: &OrganizedPointCloud) -> (u32, Option<Vec<u8>>) {
+    let iterations = match l.iterations {
+        LaplacianIterations::Fixed(n) => n,
+        LaplacianIterations::Auto => mesh_smooth_gpu::auto_laplacian_iterations(cloud),
+    };
+    let passes = (iterations > 0 && l.range_exponent > 0.0)
+        .then(|| mesh_smooth_gpu::passes_by_range(cloud, iterations, l.range_exponent))
+        .flatten();
+    (iterations, passes)
+}
+
+/// Both filters on the GPU in one go ([`mesh_smooth_gpu::GpuSmoother::laplacian_then_bilateral`]):
+/// the smoothed cloud replaces `cloud` and is meshed on the CPU while the GPU filters the
+/// normals, which then replace the mesh's. Records the `laplacian` (until the smoothed
+/// cloud is back), `mesh` and `bilateral` (the rest) stages; returns the Laplacian passes
+/// and the mesh.
+fn smooth_on_gpu(
+    reuse: &mut reuse::Reusable,
+    l: &LaplacianConfig,
+    b: &BilateralConfig,
+    cloud: &mut Cow<'_, OrganizedPointCloud>,
+    options: &OpcMeshOptions,
+    timings: &mut Timings,
+) -> Result<(u32, OpcMesh), PolylidarError> {
+    let start = Instant::now();
+    let (iterations, passes) = laplacian_passes(l, cloud);
+    let (smoothed, (meshed, at, meshing), normals) = reuse.gpu()?.laplacian_then_bilateral(
+        cloud,
+        &l.options(iterations),
+        passes.as_deref(),
+        &b.options(),
+        |smoothed| {
+            let at = start.elapsed();
+            let meshed = smoothed.mesh(options);
+            (meshed, at, start.elapsed() - at)
+        },
+    )?;
+    let mut opc = meshed?;
+    normals.apply_to_opc_mesh(&mut opc)?;
+    *cloud = Cow::Owned(smoothed);
+    timings.record("laplacian", at);
+    timings.record("mesh", meshing);
+    timings.record("bilateral", start.elapsed() - at - meshing);
+    Ok((iterations, opc))
+}
+
 /// Runs the Laplacian filter `l` on `cloud` (in place when it is owned), returning the
-/// passes run: the fixed count, or the one predicted from the cloud's noise (at the
-/// median range when the passes grow with range).
+/// passes run (see [`laplacian_passes`]).
 fn laplacian(
     reuse: &mut reuse::Reusable,
     l: &LaplacianConfig,
     cloud: &mut Cow<'_, OrganizedPointCloud>,
 ) -> Result<u32, SmoothError> {
-    let iterations = match l.iterations {
-        LaplacianIterations::Fixed(n) => n,
-        LaplacianIterations::Auto => mesh_smooth_gpu::auto_laplacian_iterations(cloud),
-    };
+    let (iterations, passes) = laplacian_passes(l, cloud);
     if iterations == 0 {
         return Ok(0);
     }
     let options = l.options(iterations);
-    let passes = (l.range_exponent > 0.0)
-        .then(|| mesh_smooth_gpu::passes_by_range(cloud, iterations, l.range_exponent))
-        .flatten();
     if let Some(passes) = passes {
         reuse.laplacian_per_pixel(l.backend, cloud.to_mut(), &options, &passes)?;
         return Ok(iterations);

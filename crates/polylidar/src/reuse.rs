@@ -59,7 +59,8 @@ impl Reusable {
         })
     }
 
-    fn gpu(&mut self) -> Result<&mut GpuSmoother, SmoothError> {
+    /// The kept GPU smoother, created on its first use.
+    pub fn gpu(&mut self) -> Result<&mut GpuSmoother, SmoothError> {
         match &mut self.gpu {
             Some(gpu) => Ok(gpu),
             slot => Ok(slot.insert(GpuSmoother::new()?)),

@@ -74,7 +74,9 @@ struct ShapeBuffers {
     staging: wgpu::Buffer,
     laplacian_ab: wgpu::BindGroup,
     laplacian_ba: wgpu::BindGroup,
-    prepare: wgpu::BindGroup,
+    /// Triangle normals and centroids of the points in `point_a` / `point_b`.
+    prepare_a: wgpu::BindGroup,
+    prepare_b: wgpu::BindGroup,
     filter_ab: wgpu::BindGroup,
     filter_ba: wgpu::BindGroup,
 }
@@ -210,60 +212,23 @@ impl GpuSmoother {
         options: &LaplacianOptions,
         passes: Option<&[u8]>,
     ) -> Result<OrganizedPointCloud, SmoothError> {
-        let (rows, cols) = (cloud.rows(), cloud.cols());
-        let half = options.kernel / 2;
-        let iterations = passes.map_or(options.iterations, |p| {
-            u32::from(p.iter().copied().max().unwrap_or(0))
-        });
-        if iterations == 0 || rows <= 2 * half as usize || cols <= 2 * half as usize {
-            return Ok(cloud.clone());
-        }
         let scopes = ErrorScopes::push(&self.device);
-        self.ensure_buffers(rows, cols)?;
-        let Some(buffers) = self.buffers.as_ref() else {
-            return Err(missing_buffers());
+        let Some(iterations) = self.upload_laplacian(cloud, options, passes)? else {
+            scopes.pop()?;
+            return Ok(cloud.clone());
         };
-        let points = upload(cloud, |i| {
-            passes.map_or(iterations as f32, |p| f32::from(p[i])) + 1.0
-        });
-        self.queue
-            .write_buffer(&buffers.point_a, 0, bytemuck::cast_slice(&points));
-        self.write_params(rows, cols, half, options.lambda, options.epsilon);
-        let mut encoder = self
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("laplacian"),
-            });
-        {
-            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("laplacian"),
-                timestamp_writes: None,
-            });
-            pass.set_pipeline(&self.laplacian);
-            for it in 0..iterations {
-                let group = if it % 2 == 0 {
-                    &buffers.laplacian_ab
-                } else {
-                    &buffers.laplacian_ba
-                };
-                pass.set_bind_group(0, group, &[]);
-                pass.dispatch_workgroups(groups(cols), groups(rows), 1);
-            }
-        }
-        let result = if iterations.is_multiple_of(2) {
-            &buffers.point_a
-        } else {
+        let buffers = self.shape_buffers()?;
+        let mut encoder = self.encoder("laplacian");
+        let in_b = self.encode_laplacian(&mut encoder, buffers, cloud, iterations);
+        let result = if in_b {
             &buffers.point_b
+        } else {
+            &buffers.point_a
         };
-        let data = self.read_back(encoder, result, &buffers.staging, rows * cols)?;
+        let count = cloud.points().len();
+        let data = self.read_back(encoder, result, &buffers.staging, count)?;
         scopes.pop()?;
-        let mut out = cloud.clone();
-        for (p, v) in out.points_mut().iter_mut().zip(&data) {
-            if v[3] >= MOVED {
-                *p = [f64::from(v[0]), f64::from(v[1]), f64::from(v[2])];
-            }
-        }
-        Ok(out)
+        Ok(moved(cloud, &data))
     }
 
     /// The bilateral normal filter of [`crate::bilateral_filter`] on this GPU, normals and
@@ -280,14 +245,153 @@ impl GpuSmoother {
         let (rows, cols) = (cloud.rows(), cloud.cols());
         let scopes = ErrorScopes::push(&self.device);
         self.ensure_buffers(rows, cols)?;
-        let Some(buffers) = self.buffers.as_ref() else {
-            return Err(missing_buffers());
-        };
+        let buffers = self.shape_buffers()?;
         self.queue.write_buffer(
             &buffers.point_a,
             0,
             bytemuck::cast_slice(&upload(cloud, |_| 1.0)),
         );
+        let mut encoder = self.encoder("bilateral");
+        let result = self.encode_bilateral(&mut encoder, buffers, options, false);
+        let data = self.read_back(encoder, result, &buffers.staging, num_slots(rows, cols))?;
+        scopes.pop()?;
+        Ok(slot_normals(rows, cols, &data))
+    }
+
+    /// The Laplacian filter (with `passes` per pixel, else `laplacian.iterations`), then
+    /// the bilateral filter of the smoothed cloud, which stays on the device: one upload,
+    /// and the bilateral passes run on the GPU while `between` works on the smoothed cloud
+    /// on the CPU (the pipeline meshes it there). The same numbers as
+    /// [`Self::laplacian`] (or [`Self::laplacian_per_pixel`]) followed by
+    /// [`Self::bilateral`] of its result.
+    ///
+    /// ```no_run
+    /// use mesh_smooth_gpu::{BilateralOptions, GpuSmoother, LaplacianOptions};
+    /// use opc_mesh::OrganizedPointCloud;
+    ///
+    /// let mut gpu = GpuSmoother::new()?;
+    /// let points: Vec<[f64; 3]> = (0..64).map(|i| [(i % 8) as f64, (i / 8) as f64, 1.0]).collect();
+    /// let cloud = OrganizedPointCloud::new(8, 8, points).expect("8 × 8 points");
+    /// let (smoothed, valid, normals) = gpu.laplacian_then_bilateral(
+    ///     &cloud,
+    ///     &LaplacianOptions::new(),
+    ///     None,
+    ///     &BilateralOptions::new(),
+    ///     |smoothed| smoothed.num_valid(),
+    /// )?;
+    /// assert_eq!((smoothed.num_valid(), valid, normals.num_present()), (64, 64, 2 * 7 * 7));
+    /// # Ok::<(), mesh_smooth_gpu::SmoothError>(())
+    /// ```
+    ///
+    /// # Errors
+    /// Invalid options, `passes` not one entry per point, a cloud too large for the
+    /// device, or a GPU failure.
+    pub fn laplacian_then_bilateral<R>(
+        &mut self,
+        cloud: &OrganizedPointCloud,
+        laplacian: &LaplacianOptions,
+        passes: Option<&[u8]>,
+        bilateral: &BilateralOptions,
+        between: impl FnOnce(&OrganizedPointCloud) -> R,
+    ) -> Result<(OrganizedPointCloud, R, SlotNormals), SmoothError> {
+        laplacian.validate()?;
+        bilateral.validate()?;
+        if let Some(passes) = passes {
+            crate::options::check_passes(passes, cloud)?;
+        }
+        let (rows, cols) = (cloud.rows(), cloud.cols());
+        let scopes = ErrorScopes::push(&self.device);
+        let Some(iterations) = self.upload_laplacian(cloud, laplacian, passes)? else {
+            scopes.pop()?;
+            let between = between(cloud);
+            let normals = self.bilateral(cloud, bilateral)?;
+            return Ok((cloud.clone(), between, normals));
+        };
+        let buffers = self.shape_buffers()?;
+        let mut encoder = self.encoder("laplacian");
+        let in_b = self.encode_laplacian(&mut encoder, buffers, cloud, iterations);
+        let points = if in_b {
+            &buffers.point_b
+        } else {
+            &buffers.point_a
+        };
+        let data = self.read_back(encoder, points, &buffers.staging, rows * cols)?;
+        let smoothed = moved(cloud, &data);
+        let mut encoder = self.encoder("bilateral");
+        let result = self.encode_bilateral(&mut encoder, buffers, bilateral, in_b);
+        let slots = num_slots(rows, cols);
+        self.submit_copy(encoder, result, &buffers.staging, slots);
+        let between = between(&smoothed);
+        let data = self.map_read(&buffers.staging, slots)?;
+        scopes.pop()?;
+        Ok((smoothed, between, slot_normals(rows, cols, &data)))
+    }
+
+    /// Allocates the buffers for `cloud`'s shape, uploads it with each valid point's pass
+    /// count (`passes`, else `options.iterations`) plus 1 in its `w`, and writes the
+    /// Laplacian's parameters; the passes to run (the largest count), or `None` when
+    /// there is nothing to filter.
+    fn upload_laplacian(
+        &mut self,
+        cloud: &OrganizedPointCloud,
+        options: &LaplacianOptions,
+        passes: Option<&[u8]>,
+    ) -> Result<Option<u32>, SmoothError> {
+        let (rows, cols) = (cloud.rows(), cloud.cols());
+        let half = options.kernel / 2;
+        let iterations = passes.map_or(options.iterations, |p| {
+            u32::from(p.iter().copied().max().unwrap_or(0))
+        });
+        if iterations == 0 || rows <= 2 * half as usize || cols <= 2 * half as usize {
+            return Ok(None);
+        }
+        self.ensure_buffers(rows, cols)?;
+        let points = upload(cloud, |i| {
+            passes.map_or(iterations as f32, |p| f32::from(p[i])) + 1.0
+        });
+        let buffers = self.shape_buffers()?;
+        self.queue
+            .write_buffer(&buffers.point_a, 0, bytemuck::cast_slice(&points));
+        self.write_params(rows, cols, half, options.lambda, options.epsilon);
+        Ok(Some(iterations))
+    }
+
+    /// Encodes `iterations` Laplacian passes over the uploaded `cloud`; whether the result
+    /// lies in `point_b` (else `point_a`).
+    fn encode_laplacian(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        buffers: &ShapeBuffers,
+        cloud: &OrganizedPointCloud,
+        iterations: u32,
+    ) -> bool {
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("laplacian"),
+            timestamp_writes: None,
+        });
+        pass.set_pipeline(&self.laplacian);
+        for it in 0..iterations {
+            let group = if it % 2 == 0 {
+                &buffers.laplacian_ab
+            } else {
+                &buffers.laplacian_ba
+            };
+            pass.set_bind_group(0, group, &[]);
+            pass.dispatch_workgroups(groups(cloud.cols()), groups(cloud.rows()), 1);
+        }
+        iterations % 2 == 1
+    }
+
+    /// Writes the bilateral filter's parameters and encodes its passes over the points in
+    /// `point_b` (`points_in_b`) or `point_a`; the buffer that holds the normals.
+    fn encode_bilateral<'b>(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        buffers: &'b ShapeBuffers,
+        options: &BilateralOptions,
+        points_in_b: bool,
+    ) -> &'b wgpu::Buffer {
+        let (rows, cols) = (buffers.rows, buffers.cols);
         let (inv_var_length, inv_var_angle) = options.inverse_variances();
         self.write_params(
             rows,
@@ -296,50 +400,44 @@ impl GpuSmoother {
             inv_var_length,
             inv_var_angle,
         );
-        let mut encoder = self
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("bilateral"),
-            });
-        {
-            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("bilateral"),
-                timestamp_writes: None,
-            });
-            let (x, y) = (groups(cols - 1), groups(rows - 1));
-            pass.set_pipeline(&self.prepare);
-            pass.set_bind_group(0, &buffers.prepare, &[]);
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("bilateral"),
+            timestamp_writes: None,
+        });
+        let (x, y) = (groups(cols - 1), groups(rows - 1));
+        pass.set_pipeline(&self.prepare);
+        let prepare = if points_in_b {
+            &buffers.prepare_b
+        } else {
+            &buffers.prepare_a
+        };
+        pass.set_bind_group(0, prepare, &[]);
+        pass.dispatch_workgroups(x, y, 1);
+        pass.set_pipeline(&self.filter);
+        for it in 0..options.iterations {
+            let group = if it % 2 == 0 {
+                &buffers.filter_ab
+            } else {
+                &buffers.filter_ba
+            };
+            pass.set_bind_group(0, group, &[]);
             pass.dispatch_workgroups(x, y, 1);
-            pass.set_pipeline(&self.filter);
-            for it in 0..options.iterations {
-                let group = if it % 2 == 0 {
-                    &buffers.filter_ab
-                } else {
-                    &buffers.filter_ba
-                };
-                pass.set_bind_group(0, group, &[]);
-                pass.dispatch_workgroups(x, y, 1);
-            }
         }
-        let result = if options.iterations.is_multiple_of(2) {
+        if options.iterations.is_multiple_of(2) {
             &buffers.normal_a
         } else {
             &buffers.normal_b
-        };
-        let slots = num_slots(rows, cols);
-        let data = self.read_back(encoder, result, &buffers.staging, slots)?;
-        scopes.pop()?;
-        let normals = data
-            .iter()
-            .map(|v| {
-                if v[3] > 0.0 {
-                    [v[0], v[1], v[2]]
-                } else {
-                    [f32::NAN; 3]
-                }
-            })
-            .collect();
-        Ok(SlotNormals::new(rows, cols, normals))
+        }
+    }
+
+    fn encoder(&self, label: &str) -> wgpu::CommandEncoder {
+        self.device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some(label) })
+    }
+
+    /// The buffers [`Self::ensure_buffers`] allocated.
+    fn shape_buffers(&self) -> Result<&ShapeBuffers, SmoothError> {
+        self.buffers.as_ref().ok_or_else(missing_buffers)
     }
 
     fn write_params(&self, rows: usize, cols: usize, half: u32, a: f32, b: f32) {
@@ -432,10 +530,13 @@ impl GpuSmoother {
             &self.laplacian,
             &[(0, params), (1, &point_b), (2, &point_a)],
         );
-        let prepare = bind(
-            &self.prepare,
-            &[(0, params), (1, &point_a), (2, &centroids), (3, &normal_a)],
-        );
+        let prepare = |points: &wgpu::Buffer| {
+            bind(
+                &self.prepare,
+                &[(0, params), (1, points), (2, &centroids), (3, &normal_a)],
+            )
+        };
+        let (prepare_a, prepare_b) = (prepare(&point_a), prepare(&point_b));
         let filter_ab = bind(
             &self.filter,
             &[(0, params), (3, &normal_b), (4, &centroids), (5, &normal_a)],
@@ -454,7 +555,8 @@ impl GpuSmoother {
             staging,
             laplacian_ab,
             laplacian_ba,
-            prepare,
+            prepare_a,
+            prepare_b,
             filter_ab,
             filter_ba,
         });
@@ -465,15 +567,31 @@ impl GpuSmoother {
     /// `staging`, waits, and returns them.
     fn read_back(
         &self,
-        mut encoder: wgpu::CommandEncoder,
+        encoder: wgpu::CommandEncoder,
         source: &wgpu::Buffer,
         staging: &wgpu::Buffer,
         count: usize,
     ) -> Result<Vec<[f32; 4]>, SmoothError> {
-        let bytes = count as u64 * VEC4_BYTES;
-        encoder.copy_buffer_to_buffer(source, 0, staging, 0, bytes);
+        self.submit_copy(encoder, source, staging, count);
+        self.map_read(staging, count)
+    }
+
+    /// Submits `encoder` plus a copy of the first `count` vec4s of `source` into
+    /// `staging`, without waiting.
+    fn submit_copy(
+        &self,
+        mut encoder: wgpu::CommandEncoder,
+        source: &wgpu::Buffer,
+        staging: &wgpu::Buffer,
+        count: usize,
+    ) {
+        encoder.copy_buffer_to_buffer(source, 0, staging, 0, count as u64 * VEC4_BYTES);
         self.queue.submit(Some(encoder.finish()));
-        let slice = staging.slice(..bytes);
+    }
+
+    /// Waits for the submitted work and returns the first `count` vec4s of `staging`.
+    fn map_read(&self, staging: &wgpu::Buffer, count: usize) -> Result<Vec<[f32; 4]>, SmoothError> {
+        let slice = staging.slice(..count as u64 * VEC4_BYTES);
         let (sender, receiver) = mpsc::channel();
         slice.map_async(wgpu::MapMode::Read, move |result| {
             // The receiver waits below; a send can only fail if it is gone.
@@ -558,6 +676,32 @@ fn groups(n: usize) -> u32 {
 }
 
 /// The cloud as vec4s: xyz and w = 1 for valid points, all zero for invalid ones.
+/// `cloud` with the points a Laplacian pass moved (`w ≥ MOVED` in `data`) replaced.
+fn moved(cloud: &OrganizedPointCloud, data: &[[f32; 4]]) -> OrganizedPointCloud {
+    let mut out = cloud.clone();
+    for (p, v) in out.points_mut().iter_mut().zip(data) {
+        if v[3] >= MOVED {
+            *p = [f64::from(v[0]), f64::from(v[1]), f64::from(v[2])];
+        }
+    }
+    out
+}
+
+/// The bilateral filter's read-back normals (`w > 0` where the triangle exists).
+fn slot_normals(rows: usize, cols: usize, data: &[[f32; 4]]) -> SlotNormals {
+    let normals = data
+        .iter()
+        .map(|v| {
+            if v[3] > 0.0 {
+                [v[0], v[1], v[2]]
+            } else {
+                [f32::NAN; 3]
+            }
+        })
+        .collect();
+    SlotNormals::new(rows, cols, normals)
+}
+
 /// The cloud as `vec4<f32>`: a valid point `i` with `w = valid_w(i)` (≥ 1), an invalid
 /// one as zeros.
 fn upload(cloud: &OrganizedPointCloud, valid_w: impl Fn(usize) -> f32) -> Vec<[f32; 4]> {
