@@ -402,12 +402,21 @@ fn pair_weights(
     }
 }
 
+/// Cells whose sums one block of [`output_row`] keeps in registers across all terms: the
+/// row is read once per term, the sums not at all.
+const BLOCK: usize = 32;
+
+/// Terms of a triangle's sum when pair weights are shared (kernel 7 at most): 48
+/// neighbour cells, 2 triangles each.
+const MAX_SHARED_TERMS: usize = 96;
+
 /// Writes cell row `r` of the next pass (both triangle types) into `out`; the ring
 /// holds the pair weights of rows `r − half ..= r`.
 ///
 /// A missing triangle's normal is zero (as [`TypePlanes::compute`] makes it and
 /// [`normalize`] keeps it), so its terms add exact zeros without a mask; the terms are
-/// added in the order of [`direct_row`].
+/// added in the order of [`direct_row`]. The sums of [`BLOCK`] cells at a time stay in
+/// registers while every term is added to them.
 #[inline(always)]
 fn output_row(
     filter: &Filter,
@@ -422,27 +431,55 @@ fn output_row(
     };
     let Cells { cols, half, .. } = filter.cells;
     let len = cols - 2 * half;
+    // Per term: where its weights start in the ring, where its neighbours' normals
+    // start, and their triangle type.
+    let mut terms = [(0usize, 0usize, 0usize); MAX_SHARED_TERMS];
     for (ko, planes) in out.iter_mut().enumerate() {
-        let [ax, ay, az] = planes.each_mut().map(|o| &mut o[half..half + len]);
-        ax.fill(0.0);
-        ay.fill(0.0);
-        az.fill(0.0);
+        let mut count = 0;
         for nb in &filter.neighbours {
             let q = own.wrapping_add_signed(nb.dr * cols as isize + nb.dc);
-            for (kn, qn) in normals.iter().enumerate() {
+            for kn in 0..TRIANGLES_PER_CELL {
                 let w = if nb.forward {
                     filter.ring_row(r, nb.pair, ko, kn) + half
                 } else {
                     let row = r.wrapping_add_signed(nb.dr);
                     (filter.ring_row(row, nb.pair, kn, ko) + half).wrapping_add_signed(nb.dc)
                 };
-                let w = &ring[w..w + len];
-                let [qnx, qny, qnz] = qn.each_ref().map(|n| &n[q..q + len]);
-                for i in 0..len {
-                    ax[i] += w[i] * qnx[i];
-                    ay[i] += w[i] * qny[i];
-                    az[i] += w[i] * qnz[i];
+                terms[count] = (w, q, kn);
+                count += 1;
+            }
+        }
+        let terms = &terms[..count];
+        let [ax, ay, az] = planes.each_mut().map(|o| &mut o[half..half + len]);
+        let mut start = 0;
+        while start + BLOCK <= len {
+            let mut sums = [[0.0f32; BLOCK]; 3];
+            for &(w, q, kn) in terms {
+                let w = span(ring, w + start, BLOCK);
+                let [qx, qy, qz] = normals[kn].each_ref().map(|n| span(n, q + start, BLOCK));
+                for i in 0..BLOCK {
+                    sums[0][i] += w[i] * qx[i];
+                    sums[1][i] += w[i] * qy[i];
+                    sums[2][i] += w[i] * qz[i];
                 }
+            }
+            ax[start..start + BLOCK].copy_from_slice(&sums[0]);
+            ay[start..start + BLOCK].copy_from_slice(&sums[1]);
+            az[start..start + BLOCK].copy_from_slice(&sums[2]);
+            start += BLOCK;
+        }
+        let rest = len - start;
+        let [ax_r, ay_r, az_r] = [&mut ax[start..], &mut ay[start..], &mut az[start..]];
+        ax_r.fill(0.0);
+        ay_r.fill(0.0);
+        az_r.fill(0.0);
+        for &(w, q, kn) in terms {
+            let w = span(ring, w + start, rest);
+            let [qx, qy, qz] = normals[kn].each_ref().map(|n| span(n, q + start, rest));
+            for i in 0..rest {
+                ax_r[i] += w[i] * qx[i];
+                ay_r[i] += w[i] * qy[i];
+                az_r[i] += w[i] * qz[i];
             }
         }
         normalize([ax, ay, az], own, &normals[ko], &types[ko].mask);
@@ -589,7 +626,15 @@ mod tests {
     /// shares weights and grids narrower and wider than the kernel.
     #[test]
     fn bands_match_the_direct_computation() {
-        for (rows, cols, half) in [(6, 29, 1), (9, 7, 2), (12, 40, 2), (8, 3, 1), (11, 17, 3)] {
+        for (rows, cols, half) in [
+            (6, 29, 1),
+            (9, 7, 2),
+            (12, 40, 2),
+            (8, 3, 1),
+            (11, 17, 3),
+            (7, 75, 1),
+            (8, 70, 3),
+        ] {
             let cells = Cells { rows, cols, half };
             let (normals, types) = random_planes(cells, (rows * cols) as u64);
             let filter = Filter::new(cells, 30.0, 4.0);
