@@ -21,10 +21,10 @@
 #![cfg(all(feature = "gpu", feature = "io"))]
 #![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
 
+mod common;
+
 use polylidar::io::{CameraSource, DepthCamera};
-use polylidar::{
-    Config, Extraction, OrganizedPointCloud, Polylidar, PolylidarError, SmoothingBackend,
-};
+use polylidar::{Config, Extraction, OrganizedPointCloud, Polylidar, SmoothingBackend};
 
 /// Least intersection over union of the triangle sets of partner planes.
 const MIN_IOU: f64 = 0.9;
@@ -171,18 +171,7 @@ fn same_planes_on_the_frames(camera: &std::path::Path, preset: &str) -> Option<u
             .with_units_per_metre(units)
             .read(&png)
             .expect("depth frame");
-        let on_gpu = match gpu.extract_organized(&cloud) {
-            Ok(e) => e,
-            Err(PolylidarError::Smooth(e)) => {
-                assert!(
-                    !test_fixtures::in_ci(),
-                    "no usable GPU adapter under CI=true: {e}; run .ci/install-gpu-deps.sh"
-                );
-                test_fixtures::record_skip(&format!("no GPU adapter ({e})"));
-                return None;
-            }
-            Err(e) => panic!("{name}: GPU run failed: {e}"),
-        };
+        let on_gpu = common::gpu_run(gpu.extract_organized(&cloud), name)?;
         let on_cpu = cpu.extract_organized(&cloud).expect("CPU run");
         let moved = cpu.extract_organized(&perturbed(&cloud)).expect("CPU run");
         let what = format!("{name}, {preset}");

@@ -6,7 +6,9 @@
 #![cfg(feature = "gpu")]
 #![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
 
-use polylidar::{Config, OrganizedPointCloud, Polylidar, PolylidarError, SmoothingBackend};
+mod common;
+
+use polylidar::{Config, OrganizedPointCloud, Polylidar, SmoothingBackend};
 
 /// A 60 × 80 depth-camera-like view of two planes meeting at a ridge, slightly wavy so
 /// that the smoothing has something to do; `shift` moves the ridge between frames.
@@ -36,17 +38,8 @@ fn config(backend: SmoothingBackend) -> Config {
 fn two_frames_ask_for_one_adapter() {
     let gpu = Polylidar::new(config(SmoothingBackend::Gpu)).expect("valid config");
     let before = mesh_smooth_gpu::adapter_requests();
-    let first = match gpu.extract_organized(&ridge(0)) {
-        Ok(e) => e,
-        Err(PolylidarError::Smooth(e)) => {
-            assert!(
-                !test_fixtures::in_ci(),
-                "no usable GPU adapter under CI=true: {e}; run .ci/install-gpu-deps.sh"
-            );
-            test_fixtures::record_skip(&format!("no GPU adapter ({e})"));
-            return;
-        }
-        Err(e) => panic!("GPU run failed: {e}"),
+    let Some(first) = common::gpu_run(gpu.extract_organized(&ridge(0)), "first frame") else {
+        return;
     };
     let after_first = mesh_smooth_gpu::adapter_requests();
     assert!(

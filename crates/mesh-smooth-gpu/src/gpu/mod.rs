@@ -217,6 +217,18 @@ impl GpuSmoother {
             scopes.pop()?;
             return Ok(cloud.clone());
         };
+        let (smoothed, _) = self.run_uploaded_laplacian(cloud, iterations)?;
+        scopes.pop()?;
+        Ok(smoothed)
+    }
+
+    /// Runs `iterations` Laplacian passes over the uploaded `cloud` and reads the result
+    /// back; and whether it lies in `point_b` (else `point_a`) on the device.
+    fn run_uploaded_laplacian(
+        &self,
+        cloud: &OrganizedPointCloud,
+        iterations: u32,
+    ) -> Result<(OrganizedPointCloud, bool), SmoothError> {
         let buffers = self.shape_buffers()?;
         let mut encoder = self.encoder("laplacian");
         let in_b = self.encode_laplacian(&mut encoder, buffers, cloud, iterations);
@@ -227,8 +239,7 @@ impl GpuSmoother {
         };
         let count = cloud.points().len();
         let data = self.read_back(encoder, result, &buffers.staging, count)?;
-        scopes.pop()?;
-        Ok(moved(cloud, &data))
+        Ok((moved(cloud, &data), in_b))
     }
 
     /// The bilateral normal filter of [`crate::bilateral_filter`] on this GPU, normals and
@@ -307,16 +318,8 @@ impl GpuSmoother {
             let normals = self.bilateral(cloud, bilateral)?;
             return Ok((cloud.clone(), between, normals));
         };
+        let (smoothed, in_b) = self.run_uploaded_laplacian(cloud, iterations)?;
         let buffers = self.shape_buffers()?;
-        let mut encoder = self.encoder("laplacian");
-        let in_b = self.encode_laplacian(&mut encoder, buffers, cloud, iterations);
-        let points = if in_b {
-            &buffers.point_b
-        } else {
-            &buffers.point_a
-        };
-        let data = self.read_back(encoder, points, &buffers.staging, rows * cols)?;
-        let smoothed = moved(cloud, &data);
         let mut encoder = self.encoder("bilateral");
         let result = self.encode_bilateral(&mut encoder, buffers, bilateral, in_b);
         let slots = num_slots(rows, cols);
