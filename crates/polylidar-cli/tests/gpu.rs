@@ -96,6 +96,21 @@ fn gpu_smoothing_gives_the_cpu_polygons() {
     }
 }
 
+#[cfg(feature = "gpu")]
+#[test]
+fn gpu_on_2d_points_is_reported_and_ignored() {
+    let dir = common::scratch("gpu", "shape");
+    let out = polylidar(
+        &dir,
+        &["extract", "--demo", "shape", "--gpu", "-o", "shape.geojson"],
+    );
+    let stderr = common::succeeded(&out);
+    assert!(
+        stderr.contains("--gpu does not apply to 2D points; ignored"),
+        "{stderr}"
+    );
+}
+
 #[cfg(not(feature = "gpu"))]
 #[test]
 fn without_the_feature_gpu_says_how_to_get_it() {
