@@ -273,6 +273,12 @@ fn parameters_line(run: &Run<'_>) -> String {
             )),
             None => parts.push("no Laplacian".to_owned()),
         }
+        let on_gpu = |b: polylidar::SmoothingBackend| b == polylidar::SmoothingBackend::Gpu;
+        if config.laplacian.is_some_and(|l| on_gpu(l.backend))
+            || config.bilateral.is_some_and(|b| on_gpu(b.backend))
+        {
+            parts.push("smoothing on the GPU".to_owned());
+        }
         if config.fill_missing.is_some() {
             parts.push(format!(
                 "{} filled",

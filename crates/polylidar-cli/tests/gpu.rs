@@ -82,6 +82,8 @@ fn gpu_smoothing_gives_the_cpu_polygons() {
         test_fixtures::record_skip(&format!("no GPU adapter ({})", stderr.trim()));
         return;
     }
+    let stderr = String::from_utf8_lossy(&gpu.stderr);
+    assert!(stderr.contains("smoothing on the GPU"), "{stderr}");
     let (on_cpu, on_gpu) = (
         areas(&dir.join("cpu.geojson")),
         areas(&dir.join("gpu.geojson")),
