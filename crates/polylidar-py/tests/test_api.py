@@ -129,6 +129,17 @@ def test_parameters():
     assert "synpeb-auto" in pr.presets()
 
 
+def test_gpu_smoothing_needs_a_gpu_build():
+    gpu = {"laplacian": {"backend": "gpu"}, "bilateral": {"backend": "gpu"}}
+    try:
+        pl = pr.Polylidar("rgbd", **gpu)
+    except ValueError as e:
+        assert "`gpu` feature" in str(e), str(e)
+    else:
+        assert pl.config["laplacian"]["backend"] == "gpu"
+        assert pl.config["bilateral"]["backend"] == "gpu"
+
+
 def test_rust_errors_are_python_exceptions():
     with pytest.raises(pr.PolylidarError, match="point"):
         pr.Polylidar().extract_2d(np.zeros((2, 2)))
