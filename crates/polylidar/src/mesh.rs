@@ -65,20 +65,14 @@ impl Extraction {
                     for &t in &p.triangles {
                         by_triangle[t as usize / 64 - base] |= 1 << (t % 64);
                     }
-                    for_each_bit(by_triangle, |t| {
+                    take_each_bit(by_triangle, |t| {
                         for v in triangles[base * 64 + t] {
                             by_vertex[v as usize / 64] |= 1 << (v % 64);
                         }
                     });
                     // Read back in order, leaving the bitmap cleared for the next polygon.
                     let mut ids = Vec::with_capacity(p.triangles.len() / 2 + 8);
-                    for (w, word) in by_vertex.iter_mut().enumerate() {
-                        let mut b = std::mem::take(word);
-                        while b != 0 {
-                            ids.push((w * 64) as u32 + b.trailing_zeros());
-                            b &= b - 1;
-                        }
-                    }
+                    take_each_bit(by_vertex, |v| ids.push(v as u32));
                     ids
                 },
             )
@@ -164,10 +158,10 @@ impl Extraction {
 }
 
 /// Calls `f` with the index of every set bit of `bits` (bit `k` of word `w` is `64 w + k`),
-/// in increasing order.
-fn for_each_bit(bits: &[u64], mut f: impl FnMut(usize)) {
-    for (w, &word) in bits.iter().enumerate() {
-        let mut b = word;
+/// in increasing order, clearing each word as it is read.
+fn take_each_bit(bits: &mut [u64], mut f: impl FnMut(usize)) {
+    for (w, word) in bits.iter_mut().enumerate() {
+        let mut b = std::mem::take(word);
         while b != 0 {
             f(w * 64 + b.trailing_zeros() as usize);
             b &= b - 1;

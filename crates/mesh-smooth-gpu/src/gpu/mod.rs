@@ -231,7 +231,7 @@ impl GpuSmoother {
     ) -> Result<(OrganizedPointCloud, bool), SmoothError> {
         let buffers = self.shape_buffers()?;
         let mut encoder = self.encoder("laplacian");
-        let in_b = self.encode_laplacian(&mut encoder, buffers, cloud, iterations);
+        let in_b = self.encode_laplacian(&mut encoder, buffers, iterations);
         let result = if in_b {
             &buffers.point_b
         } else {
@@ -359,13 +359,12 @@ impl GpuSmoother {
         Ok(Some(iterations))
     }
 
-    /// Encodes `iterations` Laplacian passes over the uploaded `cloud`; whether the result
+    /// Encodes `iterations` Laplacian passes over the uploaded cloud; whether the result
     /// lies in `point_b` (else `point_a`).
     fn encode_laplacian(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         buffers: &ShapeBuffers,
-        cloud: &OrganizedPointCloud,
         iterations: u32,
     ) -> bool {
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
@@ -380,7 +379,7 @@ impl GpuSmoother {
                 &buffers.laplacian_ba
             };
             pass.set_bind_group(0, group, &[]);
-            pass.dispatch_workgroups(groups(cloud.cols()), groups(cloud.rows()), 1);
+            pass.dispatch_workgroups(groups(buffers.cols), groups(buffers.rows), 1);
         }
         iterations % 2 == 1
     }
