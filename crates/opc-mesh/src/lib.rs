@@ -7,6 +7,7 @@
 //! * [`OrganizedPointCloud::from_depth_image`] back-projects a 16-bit depth image through
 //!   pinhole [`Intrinsics`] ([`DepthOptions`]: depth scale, stride, maximum depth);
 //!   [`OrganizedPointCloud::downsample`] keeps every k-th row and column;
+//!   [`OrganizedPointCloud::decimate`] merges k × k blocks of pixels into robust means;
 //!   [`OrganizedPointCloud::fill_missing`] puts back isolated missing returns
 //!   ([`FillConfig`]).
 //! * [`OrganizedPointCloud::mesh`] (or [`OrganizedPointCloud::into_mesh`], which moves the
@@ -39,6 +40,7 @@
 #![deny(rustdoc::broken_intra_doc_links)]
 
 mod cloud;
+mod decimate;
 mod depth;
 mod error;
 mod fill;

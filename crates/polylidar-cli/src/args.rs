@@ -3,6 +3,7 @@
 use std::path::PathBuf;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
+use polylidar::DecimateFactor;
 
 /// Planes and polygons with holes from 2D point sets, point clouds, range images and meshes.
 #[derive(Debug, Parser)]
@@ -305,6 +306,16 @@ pub struct ParamArgs {
     /// Organized clouds: skip the preset's Laplacian and bilateral smoothing.
     #[arg(long, help_heading = "Parameters (override the preset and --config)")]
     pub no_smoothing: bool,
+    /// Organized clouds: merge N × N blocks of pixels into one point before everything
+    /// else (`1` or `off`: full resolution; `auto`: to about 424 columns, as the `rgbd`
+    /// preset does). Labels stay one per input pixel. Default: the preset's.
+    #[arg(
+        long,
+        value_name = "N|auto|off",
+        value_parser = decimate_factor,
+        help_heading = "Parameters (override the preset and --config)"
+    )]
+    pub decimate: Option<DecimateFactor>,
     /// Organized clouds: run the Laplacian and bilateral smoothing on the GPU (wgpu:
     /// Vulkan, Metal, DX12 or GL), in a build with the `gpu` feature
     /// (`cargo install polylidar-cli --features gpu`).
@@ -314,6 +325,20 @@ pub struct ParamArgs {
         help_heading = "Parameters (override the preset and --config)"
     )]
     pub gpu: bool,
+}
+
+/// `--decimate`: a block side, `auto`, or `off` (a side of 1).
+fn decimate_factor(text: &str) -> Result<DecimateFactor, String> {
+    match text.trim() {
+        t if t.eq_ignore_ascii_case("auto") => Ok(DecimateFactor::Auto),
+        t if t.eq_ignore_ascii_case("off") => Ok(DecimateFactor::Fixed(1)),
+        t => match t.parse::<u32>() {
+            Ok(n) if (1..=polylidar::MAX_DECIMATE_FACTOR).contains(&n) => {
+                Ok(DecimateFactor::Fixed(n))
+            }
+            _ => Err(format!("{text:?}: a block side 1 to 16, `auto` or `off`")),
+        },
+    }
 }
 
 /// `--norm-thresh`: a cosine or an angle in degrees ([`polylidar::parse_cosine`]).

@@ -11,7 +11,7 @@ use polylidar::io::{CameraSource, DepthCamera};
 use polylidar::planar_mesh::{
     Depth, MergedMesh, Method, Packing, Resolution, SimplifyOptions, TextureOptions, export,
 };
-use polylidar::{Extraction, Intrinsics, Polylidar};
+use polylidar::{Decimation, Extraction, Intrinsics, Polylidar};
 use polylidar_io::{ColorImage, Format};
 
 use crate::args::{CameraArgs, InputArgs};
@@ -154,7 +154,11 @@ pub fn mesh(args: &MeshArgs) -> Result<Outcome, CliError> {
             .iter()
             .map(|(_, m)| m.texture.as_ref())
             .collect();
-        let png = render::render(&merged, &textures, frame.camera, polylidar.config().up).map_err(
+        let camera = match (&extraction.decimation, frame.camera) {
+            (Some(d), Some((k, _, _))) => Some(decimated_camera(k, d)),
+            (_, camera) => camera,
+        };
+        let png = render::render(&merged, &textures, camera, polylidar.config().up).map_err(
             |message| CliError::Write {
                 path: plot.clone(),
                 message,
@@ -234,6 +238,24 @@ fn load_input(
     Ok((loaded, Frame { camera }))
 }
 
+/// The camera of a decimated cloud: a point per block of `factor` pixels, at the block's
+/// centre.
+fn decimated_camera(k: Intrinsics, decimation: &Decimation) -> render::Camera {
+    let f = decimation.factor as f64;
+    let centre = (f - 1.0) / 2.0;
+    let (rows, cols) = decimation.grid();
+    (
+        Intrinsics::new(
+            k.fx / f,
+            k.fy / f,
+            (k.ppx - centre) / f,
+            (k.ppy - centre) / f,
+        ),
+        cols,
+        rows,
+    )
+}
+
 /// One colour per vertex of the extraction's mesh, from the input's own colours.
 fn colors_for(
     args: &MeshArgs,
@@ -263,6 +285,17 @@ fn colors_for(
                 "only depth PNGs (with their colour picture), PCD and PLY files carry them",
             ));
         }
+    };
+    let colors = match &extraction.decimation {
+        Some(d) => d.block_colors(&colors).map_err(|_| {
+            none(&format!(
+                "{} colours for {} × {} pixels",
+                colors.len(),
+                d.rows,
+                d.cols
+            ))
+        })?,
+        None => colors,
     };
     let vertices = extraction.mesh.num_vertices();
     if colors.len() != vertices {
@@ -412,6 +445,7 @@ fn report(
             "triangles": merged.triangles.len(),
             "segment_triangles": full,
             "texels": texels,
+            "decimate_factor": extraction.decimation.as_ref().map_or(1, |d| d.factor),
             "extract_ms": 1e3 * extraction.diagnostics.timings.total().as_secs_f64(),
             "mesh_ms": 1e3 * meshes.seconds,
             "mesh_and_merge_ms": 1e3 * mesh_seconds,
@@ -426,6 +460,14 @@ fn report(
         meshes.planes.len(),
         meshes.skipped.len()
     );
+    if let Some(d) = &extraction.decimation {
+        let (rows, cols) = d.grid();
+        println!(
+            "  decimated {0} × {0}: planes of the {cols} × {rows} grid, each vertex \
+             coloured by its block",
+            d.factor
+        );
+    }
     println!(
         "  vertices kept {kept} of {points} planar points ({:.1} %), triangles {} of {full} ({:.1} %)",
         pct(kept, points),

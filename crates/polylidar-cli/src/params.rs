@@ -4,7 +4,7 @@
 use std::path::Path;
 
 use polylidar::scale::{alpha_for_spacing, convert_lengths, lmax_for_spacing};
-use polylidar::{Config, Preset, SmoothingBackend};
+use polylidar::{Config, DecimateFactor, Preset, SmoothingBackend};
 use polylidar_io::LengthUnit;
 
 use crate::args::{Demo, InputArgs, Mode, ParamArgs};
@@ -396,6 +396,7 @@ fn apply_flags(config: &mut Config, flags: &ParamArgs) -> Result<(), CliError> {
         up,
         threads,
         no_smoothing,
+        decimate,
         gpu,
     } = flags;
     if let Some(v) = alpha {
@@ -437,6 +438,13 @@ fn apply_flags(config: &mut Config, flags: &ParamArgs) -> Result<(), CliError> {
     if *no_smoothing {
         config.laplacian = None;
         config.bilateral = None;
+    }
+    match *decimate {
+        None => {}
+        Some(DecimateFactor::Fixed(1)) => config.decimate = None,
+        Some(factor) => {
+            config.decimate = Some(config.decimate.unwrap_or_default().with_factor(factor));
+        }
     }
     if *gpu {
         if !cfg!(feature = "gpu") {

@@ -248,9 +248,20 @@ fn render_image(cloud: &OrganizedPointCloud, extraction: &Extraction) -> Result<
     let full = Rect::from_xywh(0.0, 0.0, width as f32, height as f32).ok_or("empty picture")?;
     pixmap.fill_rect(full, &pattern, Transform::identity(), None);
 
+    // A decimated cloud's vertex stands for a block of pixels: drawn at its centre.
+    let (grid_cols, block) = match &extraction.decimation {
+        Some(d) => (d.grid().1, d.factor as f64),
+        None => (cols, 1.0),
+    };
     let to_px = |v: u32| {
-        let (r, c) = ((v as usize / cols) as f64, (v as usize % cols) as f64);
-        (((c + 0.5) * scale) as f32, ((r + 0.5) * scale) as f32)
+        let (r, c) = (
+            (v as usize / grid_cols) as f64,
+            (v as usize % grid_cols) as f64,
+        );
+        (
+            ((c + 0.5) * block * scale) as f32,
+            ((r + 0.5) * block * scale) as f32,
+        )
     };
     let stroke = Stroke {
         width: 2.0,

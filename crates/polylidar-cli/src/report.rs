@@ -253,6 +253,15 @@ fn parameters_line(run: &Run<'_>) -> String {
         set.push(format!("z_thresh {}", length(config.z_thresh, c.unit)));
     }
     parts.push(set.join(", "));
+    if let (Input::Organized(cloud), Some(d)) = (run.input, &config.decimate) {
+        let factor = d.factor_for(cloud.rows(), cloud.cols());
+        if factor > 1 {
+            parts.push(format!(
+                "decimated {factor} × {factor} to {} points",
+                run.counts.decimated_points
+            ));
+        }
+    }
     if matches!(run.input, Input::Organized(_)) {
         match config.laplacian {
             Some(l) => parts.push(format!(

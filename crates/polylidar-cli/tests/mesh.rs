@@ -229,3 +229,60 @@ fn every_camera_source_gives_the_same_mesh() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn a_decimated_frame_is_meshed_with_its_blocks_colours() {
+    // The rgbd preset decimates a 640 × 480 frame by 2: the mesh, its texture and the
+    // plot follow the 320 × 240 grid, the labels the input's pixels.
+    let (Some(depth), Some(camera)) = (
+        test_fixtures::fixture("rgbd/tum_depth.png"),
+        test_fixtures::fixture("rgbd/camera_primesense.json"),
+    ) else {
+        test_fixtures::record_skip("polylidar mesh: TUM frame missing");
+        return;
+    };
+    let dir = temp_dir("decimated");
+    let (depth, camera) = (depth.display().to_string(), camera.display().to_string());
+    let common = [
+        depth.as_str(),
+        "--intrinsics",
+        &camera,
+        "--depth-scale",
+        "5000",
+        "--preset",
+        "rgbd",
+    ];
+    let mut args = vec!["mesh"];
+    args.extend(common);
+    args.extend(["--texture", "-o", "tum.obj", "--plot", "tum_plot.png"]);
+    let out = polylidar(&dir, &args);
+    succeeded(&out);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains("decimated 2 × 2"), "{stdout}");
+    let atlas = polylidar_io::read_color_image(dir.join("tum.png")).unwrap();
+    let lit = atlas
+        .rgb
+        .iter()
+        .filter(|c| c.iter().any(|&v| v > 30))
+        .count();
+    assert!(
+        lit * 3 > atlas.rgb.len(),
+        "{lit} of {} texels lit",
+        atlas.rgb.len()
+    );
+    let plot = polylidar_io::read_color_image(dir.join("tum_plot.png")).unwrap();
+    assert_eq!((plot.width, plot.height), (640, 480)); // 320 × 240 blocks, twice
+
+    let mut args = vec!["extract"];
+    args.extend(common);
+    args.extend(["-o", "tum.geojson", "--labels-out", "tum_labels.npy"]);
+    let stderr = succeeded(&polylidar(&dir, &args));
+    assert!(stderr.contains("decimated 2 × 2"), "{stderr}");
+    let npy = std::fs::read(dir.join("tum_labels.npy")).unwrap();
+    let header = String::from_utf8_lossy(&npy[..128]).into_owned();
+    assert!(header.contains("(480, 640)"), "{header}");
+    args.extend(["--decimate", "off"]);
+    let stderr = succeeded(&polylidar(&dir, &args));
+    assert!(!stderr.contains("decimated"), "{stderr}");
+    std::fs::remove_dir_all(&dir).ok();
+}

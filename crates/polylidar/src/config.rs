@@ -7,7 +7,7 @@ use planeseg::SegmentationConfig;
 use polypost::PostprocessConfig;
 use serde::{Deserialize, Serialize};
 
-use crate::{PolylidarError, Preset, ScanConfig};
+use crate::{DecimateConfig, PolylidarError, Preset, ScanConfig};
 
 /// `with_<field>` builders, one per listed field, each documented as setting it: the
 /// configuration structs are `#[non_exhaustive]`, so code outside this crate builds them
@@ -123,6 +123,11 @@ pub struct Config {
     /// [`crate::Extraction::point_labels`] and [`crate::Extraction::plane_labels`], as the
     /// input has no measurement there. Absent = off.
     pub fill_missing: Option<FillConfig>,
+    /// Organized clouds: merge blocks of pixels into one point each before everything
+    /// else (see [`DecimateConfig`]); the labels of
+    /// [`crate::Extraction::point_labels`] and [`crate::Extraction::plane_labels`] are
+    /// still one per input pixel. Absent = full resolution.
+    pub decimate: Option<DecimateConfig>,
     /// Unorganized clouds: treat the cloud as one frame of a rotating LiDAR (thinning,
     /// beam outliers, optionally the range image; see [`ScanConfig`] and
     /// [`crate::Polylidar::extract_scan`]); absent = the points are taken as given.
@@ -259,45 +264,65 @@ impl std::fmt::Display for LaplacianIterations {
 
 impl Serialize for LaplacianIterations {
     fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
-        match self {
-            Self::Fixed(n) => serializer.serialize_u32(*n),
-            Self::Auto => serializer.serialize_str("auto"),
-        }
+        serialize_count_or_auto(self.fixed(), serializer)
     }
 }
 
 impl<'de> Deserialize<'de> for LaplacianIterations {
     fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
-        struct Visitor;
-        impl serde::de::Visitor<'_> for Visitor {
-            type Value = LaplacianIterations;
+        Ok(
+            deserialize_count_or_auto(deserializer, "an iteration count (0 or more)")?
+                .map_or(Self::Auto, Self::Fixed),
+        )
+    }
+}
 
-            fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-                f.write_str(r#"an iteration count (0 or more) or "auto""#)
-            }
+/// A count, or `"auto"` for `None`, as TOML and JSON write it.
+pub(crate) fn serialize_count_or_auto<S: serde::Serializer>(
+    count: Option<u32>,
+    serializer: S,
+) -> Result<S::Ok, S::Error> {
+    match count {
+        Some(n) => serializer.serialize_u32(n),
+        None => serializer.serialize_str("auto"),
+    }
+}
 
-            fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<Self::Value, E> {
-                u32::try_from(v)
-                    .map(LaplacianIterations::Fixed)
-                    .map_err(|_| E::invalid_value(serde::de::Unexpected::Unsigned(v), &self))
-            }
+/// A count (`what`, in the error message) or the string `"auto"` (any case), read as
+/// `None`.
+pub(crate) fn deserialize_count_or_auto<'de, D: serde::Deserializer<'de>>(
+    deserializer: D,
+    what: &'static str,
+) -> Result<Option<u32>, D::Error> {
+    struct Visitor(&'static str);
+    impl serde::de::Visitor<'_> for Visitor {
+        type Value = Option<u32>;
 
-            fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<Self::Value, E> {
-                u32::try_from(v)
-                    .map(LaplacianIterations::Fixed)
-                    .map_err(|_| E::invalid_value(serde::de::Unexpected::Signed(v), &self))
-            }
+        fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+            write!(f, r#"{} or "auto""#, self.0)
+        }
 
-            fn visit_str<E: serde::de::Error>(self, v: &str) -> Result<Self::Value, E> {
-                if v.eq_ignore_ascii_case("auto") {
-                    Ok(LaplacianIterations::Auto)
-                } else {
-                    Err(E::invalid_value(serde::de::Unexpected::Str(v), &self))
-                }
+        fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<Self::Value, E> {
+            u32::try_from(v)
+                .map(Some)
+                .map_err(|_| E::invalid_value(serde::de::Unexpected::Unsigned(v), &self))
+        }
+
+        fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<Self::Value, E> {
+            u32::try_from(v)
+                .map(Some)
+                .map_err(|_| E::invalid_value(serde::de::Unexpected::Signed(v), &self))
+        }
+
+        fn visit_str<E: serde::de::Error>(self, v: &str) -> Result<Self::Value, E> {
+            if v.eq_ignore_ascii_case("auto") {
+                Ok(None)
+            } else {
+                Err(E::invalid_value(serde::de::Unexpected::Str(v), &self))
             }
         }
-        deserializer.deserialize_any(Visitor)
     }
+    deserializer.deserialize_any(Visitor(what))
 }
 
 /// Bilateral normal filter parameters (Polylidar3D Eq. 3–5).
@@ -459,6 +484,7 @@ impl Default for Config {
             postprocess: None,
             refine: false,
             fill_missing: None,
+            decimate: None,
             scan: None,
             unorganized: None,
         }
@@ -591,6 +617,12 @@ impl Config {
         self
     }
 
+    /// Sets [`Config::decimate`] (`None`: full resolution).
+    pub fn with_decimate(mut self, decimate: Option<DecimateConfig>) -> Self {
+        self.decimate = decimate;
+        self
+    }
+
     /// The parameters of a named preset (see [`Preset`], whose names these are), or
     /// `None` for a name that is none of them.
     ///
@@ -683,6 +715,9 @@ impl Config {
         }
         if let Some(f) = &self.fill_missing {
             f.validate().map_err(fill_error)?;
+        }
+        if let Some(d) = &self.decimate {
+            d.validate()?;
         }
         if let Some(scan) = &self.scan {
             scan.validate()?;

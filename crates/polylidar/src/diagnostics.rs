@@ -51,6 +51,9 @@ pub struct Counts {
     pub beam_outliers: usize,
     /// 3D organized clouds: missing pixels filled ([`crate::Config::fill_missing`]).
     pub filled: usize,
+    /// 3D organized clouds decimated by [`crate::Config::decimate`]: the valid points of
+    /// the coarser grid the pipeline ran on (0: not decimated).
+    pub decimated_points: usize,
     /// 3D clouds: Laplacian passes run (the configured count, or the one predicted for
     /// `iterations = "auto"`; on the unorganized path the point-smoothing passes of
     /// `unorganized.smoothing`); 0 without smoothing.
@@ -59,7 +62,8 @@ pub struct Counts {
 
 /// Wall-clock time per pipeline stage, in execution order.
 ///
-/// Stage names: `fill` (organized clouds: missing returns filled), `outliers` (rotating scans: beams, thinning, beam outliers), `range_image`
+/// Stage names: `decimate` (organized clouds: blocks of pixels merged), `fill` (organized
+/// clouds: missing returns filled), `outliers` (rotating scans: beams, thinning, beam outliers), `range_image`
 /// (rotating scans rebuilt as range images), `mesh` (triangulation or meshing, normals included), `laplacian`
 /// (with `iterations = "auto"`, the noise estimate too), `bilateral` (smoothing), `fastga` (dominant normals: integration and peaks), `regions`
 /// (2D / 2.5D triangle filtering and region growing), `polygons` (2D / 2.5D boundary

@@ -39,6 +39,7 @@
 #![deny(rustdoc::broken_intra_doc_links)]
 
 mod config;
+mod decimate;
 mod diagnostics;
 mod error;
 pub mod explain;
@@ -61,6 +62,7 @@ pub use config::{
     BilateralConfig, Config, DominantNormalsConfig, LaplacianConfig, LaplacianIterations,
     MAX_RANGE_EXPONENT, MAX_THREADS_PER_CORE, SmoothingBackend, max_threads, parse_cosine,
 };
+pub use decimate::{DecimateConfig, DecimateFactor, Decimation, MAX_DECIMATE_FACTOR};
 pub use diagnostics::{Counts, Diagnostics, Timings};
 pub use error::PolylidarError;
 // The stage errors `PolylidarError` wraps, so that a caller can match on them.

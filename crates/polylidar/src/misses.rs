@@ -23,6 +23,7 @@
 //! 8. otherwise the overlap fell short of the score's threshold on one side
 //!    ([`MissCause::LowOverlap`]).
 
+use std::borrow::Cow;
 use std::collections::BTreeMap;
 
 use seg_metrics::{Evaluation, PredictedClass, TruthClass};
@@ -126,7 +127,7 @@ pub struct Miss {
 /// cause (see the module docs); ground-truth planes first, by id, then spurious planes.
 ///
 /// `truth` holds the ground-truth plane of every vertex of `extraction.mesh` (−1 for
-/// none), `evaluation` the scores of [`Extraction::plane_labels`] against it at the
+/// none; of every input pixel for a decimated cloud, see [`Extraction::decimation`]), `evaluation` the scores of [`Extraction::plane_labels`] against it at the
 /// overlap threshold `overlap` (Hoover's `T`, 0.8 in the papers).
 pub fn explain_misses(
     extraction: &Extraction,
@@ -217,6 +218,11 @@ struct TruthStats {
 
 impl TruthStats {
     fn collect(extraction: &Extraction, config: &Config, truth: &[i32]) -> Self {
+        // A decimated cloud's mesh has a vertex per block: the block's label.
+        let truth = match &extraction.decimation {
+            Some(d) => Cow::Owned(d.block_labels(truth).unwrap_or_default()),
+            None => Cow::Borrowed(truth),
+        };
         let mesh = &extraction.mesh;
         let vertices = mesh.vertices();
         let normals = mesh.triangle_normals().unwrap_or(&[]);
@@ -264,7 +270,7 @@ impl TruthStats {
             *stats.by_plane.entry(plane_of[t]).or_default() += 1;
         }
         let mut points: BTreeMap<i32, Vec<[f64; 3]>> = BTreeMap::new();
-        for (p, &l) in vertices.iter().zip(truth) {
+        for (p, &l) in vertices.iter().zip(truth.iter()) {
             if l >= 0 && p.iter().all(|c| c.is_finite()) {
                 points.entry(l).or_default().push(*p);
             }

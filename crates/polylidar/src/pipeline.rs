@@ -5,7 +5,7 @@ use plane_geom::vec3::unit;
 use polyextract::Extractor;
 use rayon::prelude::*;
 
-use crate::{Config, Counts, Diagnostics, PolylidarError, Timings};
+use crate::{Config, Counts, Decimation, Diagnostics, PolylidarError, Timings};
 
 /// A polygon with holes extracted from one region: point indices into the input, their
 /// coordinates, and the region's triangles.
@@ -110,6 +110,10 @@ pub struct Extraction {
     /// none. [`Self::point_labels`] and [`Self::plane_labels`] follow it. Empty for the
     /// other inputs.
     pub fitted: Vec<i32>,
+    /// Organized clouds that [`crate::Config::decimate`] decimated: how the mesh's
+    /// coarser grid maps onto the input's pixels (the labels are expanded through it);
+    /// `None` at full resolution.
+    pub decimation: Option<Decimation>,
     /// Per-stage counts and timings.
     pub diagnostics: Diagnostics,
 }
@@ -119,7 +123,8 @@ impl Extraction {
     /// vertex takes the polygon of its triangles; when triangles of several polygons meet
     /// at it, the polygon with more triangles wins (the lower index on a tie). For an
     /// organized cloud vertex `r · cols + c` is pixel `(r, c)`, so this is the predicted
-    /// plane image, row-major.
+    /// plane image, row-major; a decimated cloud ([`Self::decimation`]) gives one label
+    /// per input pixel, its block's (`-1` where the input pixel is invalid).
     ///
     /// ```
     /// use polylidar::{Config, Polylidar};
@@ -131,15 +136,19 @@ impl Extraction {
     /// # Ok::<(), polylidar::PolylidarError>(())
     /// ```
     pub fn point_labels(&self) -> Vec<i32> {
-        self.unfilled(self.labels(|index| index as i32))
+        self.per_pixel(self.labels(|index| index as i32))
     }
 
-    /// `labels` with `-1` for the [`Self::filled`] pixels.
-    fn unfilled(&self, mut labels: Vec<i32>) -> Vec<i32> {
+    /// The vertex `labels` with `-1` for the [`Self::filled`] pixels, expanded onto the
+    /// input's pixels when the cloud was decimated ([`Self::decimation`]).
+    fn per_pixel(&self, mut labels: Vec<i32>) -> Vec<i32> {
         for (label, _) in labels.iter_mut().zip(&self.filled).filter(|(_, f)| **f) {
             *label = -1;
         }
-        labels
+        match &self.decimation {
+            Some(d) => d.expand(&labels),
+            None => labels,
+        }
     }
 
     /// The plane of every vertex, `-1` for none: what a plane segmentation is scored on
@@ -159,7 +168,7 @@ impl Extraction {
         let owner = self.labels(|index| index as i32);
         let plane_of = |polygon: i32| self.polygons[polygon as usize].plane_id as i32;
         if self.rim_distance <= 0.0 {
-            return self.unfilled(
+            return self.per_pixel(
                 owner
                     .into_iter()
                     .map(|o| if o < 0 { -1 } else { plane_of(o) })
@@ -207,7 +216,7 @@ impl Extraction {
                 }
             })
             .collect();
-        self.unfilled(labels)
+        self.per_pixel(labels)
     }
 
     /// The label `label(polygon index)` of every vertex, as [`Self::point_labels`] assigns
@@ -469,6 +478,7 @@ impl Polylidar {
             rim_distance,
             filled: Vec::new(),
             fitted: Vec::new(),
+            decimation: None,
             diagnostics: Diagnostics { counts, timings },
         };
         self.postprocess(&mut extraction)?;

@@ -13,7 +13,8 @@ use polypost::{Plane, Polygon3, PostProcessor};
 use crate::config::{BilateralConfig, LaplacianConfig, LaplacianIterations, SmoothingBackend};
 use crate::reuse;
 use crate::{
-    Counts, ExtractedPolygon, Extraction, Polylidar, PolylidarError, PostprocessedPolygon, Timings,
+    Counts, Decimation, ExtractedPolygon, Extraction, Polylidar, PolylidarError,
+    PostprocessedPolygon, Timings,
 };
 
 impl Polylidar {
@@ -72,6 +73,15 @@ impl Polylidar {
         self.install(|| {
             let config = self.config();
             let mut timings = Timings::default();
+            let decimated = match &config.decimate {
+                Some(d) => timings.time("decimate", || d.apply(input))?,
+                None => None,
+            };
+            let (decimated, decimation) = decimated.unzip();
+            let (input, owned) = match &decimated {
+                Some(small) => (small.view(), Some(small)),
+                None => (input, owned),
+            };
             let mut reuse = reuse::lock(&self.reuse);
             // The cloud the filters read (they take an owned cloud): the caller's, or a
             // copy of a borrowed one; `None` without smoothing, meshing the input itself.
@@ -118,11 +128,15 @@ impl Polylidar {
             // `extract_planes` takes the lock again for FastGA.
             drop(reuse);
             let filled_count = filled.iter().filter(|&&f| f).count();
+            let grid_points = cloud
+                .as_ref()
+                .map_or_else(|| input.num_valid(), |c| c.num_valid())
+                - filled_count;
             let counts = Counts {
-                points: cloud
+                points: decimation
                     .as_ref()
-                    .map_or_else(|| input.num_valid(), |c| c.num_valid())
-                    - filled_count,
+                    .map_or(grid_points, Decimation::valid_pixels),
+                decimated_points: if decimation.is_some() { grid_points } else { 0 },
                 laplacian_iterations,
                 filled: filled_count,
                 ..Counts::default()
@@ -131,6 +145,7 @@ impl Polylidar {
             if filled_count > 0 {
                 extraction.filled = filled;
             }
+            extraction.decimation = decimation;
             Ok(extraction)
         })
     }

@@ -8,8 +8,8 @@ use fastga::FastGaConfig;
 use polypost::PostprocessConfig;
 
 use crate::{
-    BeamOutlierConfig, BilateralConfig, Config, DominantNormalsConfig, FieldOfViewConfig,
-    FillConfig, LaplacianConfig, LaplacianIterations, ScanConfig,
+    BeamOutlierConfig, BilateralConfig, Config, DecimateConfig, DominantNormalsConfig,
+    FieldOfViewConfig, FillConfig, LaplacianConfig, LaplacianIterations, ScanConfig,
 };
 
 /// A named parameter set: the papers' (their tables) and ours (beyond them). Lengths are
@@ -33,7 +33,10 @@ pub enum Preset {
     /// `rgbd` (Table 7): Laplacian λ 1, k 3, 2 it; bilateral σl 0.1, σa 0.15, k 3, 2 it;
     /// FastGA [`FastGaConfig::rgbd`] (level 3, v_min 50, d_peak 0.28, 12 %);
     /// min_triangles 500, norm 0.96, lmax 0.05, z 0.1, hole vertices 10; post
-    /// [`PostprocessConfig::rgbd`] (α 0.02, β_neg 0.02, β_pos 0.005, γ 0.1, δ 0.1).
+    /// [`PostprocessConfig::rgbd`] (α 0.02, β_neg 0.02, β_pos 0.005, γ 0.1, δ 0.1). The
+    /// paper chose these for the D435i's depth after the RealSense SDK's decimation by 2
+    /// (424 × 240), so larger frames are decimated to about that width first
+    /// ([`Config::decimate`], [`DecimateConfig`] `"auto"`: 640 × 480 and 848 × 480 by 2).
     Rgbd,
     /// `synpeb` (the authors' benchmark values, used for the timing comparisons with the
     /// original): Laplacian k 5, λ 1, 8 it; bilateral k 3, σ 0.1 / 0.1, 2 it; FastGA
@@ -174,6 +177,7 @@ impl Preset {
                 z_thresh: 0.1,
                 min_hole_vertices: 10,
                 postprocess: Some(PostprocessConfig::rgbd()),
+                decimate: Some(DecimateConfig::default()),
                 ..base
             },
             Preset::Synpeb | Preset::SynpebAuto | Preset::RgbdAuto => {
