@@ -25,27 +25,30 @@ impl OrganizedPointCloudView<'_> {
     /// block's valid points whose range lies within `range_tolerance` (a share, e.g.
     /// `0.02`) of the range of the block's median point, the lower median for an even
     /// count; invalid (NaN) where the block has no valid point. Blocks at the right and
-    /// bottom edges may be partial: the result has `⌈rows / factor⌉ × ⌈cols / factor⌉`
+    /// bottom edges may be partial: the cloud has `⌈rows / factor⌉ × ⌈cols / factor⌉`
     /// points and point `(r, c)` stands for pixels `(r · factor .. (r + 1) · factor,
-    /// c · factor .. (c + 1) · factor)`. Factor 1 copies the cloud. Rows run in parallel
-    /// on the rayon pool; the result does not depend on the thread count.
+    /// c · factor .. (c + 1) · factor)`, those of them it averaged marked in
+    /// [`Decimated::members`]. Rows run in parallel on the rayon pool; the result does not
+    /// depend on the thread count.
     ///
     /// ```
     /// use opc_mesh::OrganizedPointCloud;
     ///
-    /// // A 4 × 4 wall 2 m away whose left half is a box 1 m in front of it.
+    /// // A 4 × 4 patch of a wall 2 m away; pixel (0, 0) sees a cable 1 m in front of it.
     /// let points: Vec<[f64; 3]> = (0..16)
     ///     .map(|i| {
     ///         let (r, c) = (i / 4, i % 4);
-    ///         let z = if c < 2 { 1.0 } else { 2.0 };
+    ///         let z = if i == 0 { 1.0 } else { 2.0 };
     ///         [c as f64 * 0.01 * z, r as f64 * 0.01 * z, z]
     ///     })
     ///     .collect();
     /// let cloud = OrganizedPointCloud::new(4, 4, points)?;
     /// let small = cloud.decimate(2, 0.02)?;
-    /// assert_eq!((small.rows(), small.cols()), (2, 2));
-    /// assert_eq!(small.point(0, 0)[2], 1.0);
-    /// assert_eq!(small.point(1, 1)[2], 2.0);
+    /// assert_eq!((small.cloud.rows(), small.cloud.cols()), (2, 2));
+    /// // The first block is the wall's three pixels; the cable's is left out.
+    /// let [x, y, z] = small.cloud.point(0, 0);
+    /// assert!((x - 0.04 / 3.0).abs() < 1e-12 && (y - 0.04 / 3.0).abs() < 1e-12 && z == 2.0);
+    /// assert!(!small.members[0] && small.members[1] && small.members[4]);
     /// # Ok::<(), opc_mesh::OpcError>(())
     /// ```
     ///
@@ -53,11 +56,7 @@ impl OrganizedPointCloudView<'_> {
     /// [`OpcError::InvalidParameter`] for a factor of 0 or above 16, or a tolerance that is
     /// not a finite share ≥ 0; [`OpcError::TooSmall`] when fewer than 2 rows or columns
     /// would remain.
-    pub fn decimate(
-        &self,
-        factor: usize,
-        range_tolerance: f64,
-    ) -> Result<OrganizedPointCloud, OpcError> {
+    pub fn decimate(&self, factor: usize, range_tolerance: f64) -> Result<Decimated, OpcError> {
         if factor == 0 || factor > MAX_FACTOR {
             return Err(OpcError::InvalidParameter {
                 name: "factor",
@@ -73,33 +72,50 @@ impl OrganizedPointCloudView<'_> {
             });
         }
         let (rows, cols) = strided_shape(self.rows(), self.cols(), factor)?;
-        if factor == 1 {
-            return Ok(self.to_cloud());
-        }
         let input = self.points();
-        let in_cols = self.cols();
-        let in_rows = self.rows();
+        let (in_rows, in_cols) = (self.rows(), self.cols());
         let mut points = vec![[0.0; 3]; rows * cols];
-        points.par_chunks_mut(cols).enumerate().for_each_init(
-            || vec![([0.0; 3], 0.0); factor * factor],
-            |block, (r, out)| {
-                let block_rows = r * factor..((r + 1) * factor).min(in_rows);
-                for (c, o) in out.iter_mut().enumerate() {
-                    let block_cols = c * factor..((c + 1) * factor).min(in_cols);
-                    let (mut n, mut valid) = (0, 0);
-                    for row in block_rows.clone() {
-                        for p in &input[row * in_cols..][block_cols.clone()] {
-                            let ok = is_valid(p);
-                            block[n] = (*p, if ok { range2(p) } else { f64::INFINITY });
-                            valid += usize::from(ok);
-                            n += 1;
+        let mut members = vec![false; in_rows * in_cols];
+        points
+            .par_chunks_mut(cols)
+            .zip(members.par_chunks_mut(factor * in_cols))
+            .enumerate()
+            .for_each_init(
+                || Block::new(factor),
+                |block, (r, (out, members))| {
+                    let block_rows = 0..members.len() / in_cols;
+                    let first = r * factor * in_cols;
+                    for (c, o) in out.iter_mut().enumerate() {
+                        let block_cols = c * factor..((c + 1) * factor).min(in_cols);
+                        block.clear();
+                        for i in block_rows.clone() {
+                            let at = first + i * in_cols;
+                            block.extend(&input[at + block_cols.start..at + block_cols.end]);
                         }
+                        let window = block.window(range_tolerance);
+                        let (mut sum, mut count) = ([0.0; 3], 0.0);
+                        let mut k = 0;
+                        for i in block_rows.clone() {
+                            let row = &mut members[i * in_cols..][block_cols.clone()];
+                            for member in row {
+                                let inside = window.contains(&block.range2[k]);
+                                for (s, v) in sum.iter_mut().zip(block.points[k]) {
+                                    *s += if inside { v } else { 0.0 };
+                                }
+                                count += if inside { 1.0 } else { 0.0 };
+                                *member = inside;
+                                k += 1;
+                            }
+                        }
+                        let inverse = 1.0 / count;
+                        *o = sum.map(|s| s * inverse);
                     }
-                    *o = robust_mean(&mut block[..n], valid, range_tolerance);
-                }
-            },
-        );
-        OrganizedPointCloud::new(rows, cols, points)
+                },
+            );
+        Ok(Decimated {
+            cloud: OrganizedPointCloud::new(rows, cols, points)?,
+            members,
+        })
     }
 }
 
@@ -109,12 +125,106 @@ impl OrganizedPointCloud {
     ///
     /// # Errors
     /// As [`OrganizedPointCloudView::decimate`].
-    pub fn decimate(
-        &self,
-        factor: usize,
-        range_tolerance: f64,
-    ) -> Result<OrganizedPointCloud, OpcError> {
+    pub fn decimate(&self, factor: usize, range_tolerance: f64) -> Result<Decimated, OpcError> {
         self.view().decimate(factor, range_tolerance)
+    }
+}
+
+/// A decimated cloud ([`OrganizedPointCloudView::decimate`]) and which input pixels
+/// each of its points stands for.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Decimated {
+    /// One point per block of pixels.
+    pub cloud: OrganizedPointCloud,
+    /// One flag per input pixel, row-major: whether its block's point averaged it (it is
+    /// valid and within the range tolerance of the block's median). A pixel left out
+    /// lies across a depth jump from the surface its block's point lies on.
+    pub members: Vec<bool>,
+}
+
+/// One block's pixels: their points and squared ranges (infinite for invalid ones), and
+/// room to select a large block's median.
+struct Block {
+    points: Vec<[f64; 3]>,
+    range2: Vec<f64>,
+    valid: usize,
+    scratch: Vec<f64>,
+}
+
+impl Block {
+    fn new(factor: usize) -> Self {
+        let n = factor * factor;
+        Self {
+            points: Vec::with_capacity(n),
+            range2: Vec::with_capacity(n),
+            valid: 0,
+            scratch: Vec::with_capacity(n),
+        }
+    }
+
+    fn clear(&mut self) {
+        self.points.clear();
+        self.range2.clear();
+        self.valid = 0;
+    }
+
+    fn extend(&mut self, pixels: &[[f64; 3]]) {
+        for p in pixels {
+            let ok = is_valid(p);
+            self.points.push(*p);
+            self.range2.push(if ok { range2(p) } else { f64::INFINITY });
+            self.valid += usize::from(ok);
+        }
+    }
+
+    /// The squared ranges within `tolerance` of the lower median range of the valid
+    /// points (empty without any): |r − m| ≤ t·m, squared on both sides of m. Infinite
+    /// ranges fall outside.
+    fn window(&mut self, tolerance: f64) -> std::ops::RangeInclusive<f64> {
+        if self.valid == 0 {
+            return 1.0..=0.0;
+        }
+        // Invalid points order last, so the median of the valid ones has `middle` before
+        // it.
+        let middle = (self.valid - 1) / 2;
+        let median2 = if let [a, b, c, d] = *self.range2 {
+            // A full 2 × 2 block: sorted by a network of minima and maxima.
+            let (a, b) = (a.min(b), a.max(b));
+            let (c, d) = (c.min(d), c.max(d));
+            let (a, c) = (a.min(c), a.max(c));
+            let (b, d) = (b.min(d), b.max(d));
+            let (b, c) = (b.min(c), b.max(c));
+            [a, b, c, d][middle]
+        } else if self.range2.len() <= 16 {
+            // The point with `middle` points before it (ties by position): a handful of
+            // comparisons without branches, where sorting would mispredict on every
+            // block. Squared ranges are ≥ 0, so their bits order as they do.
+            let mut median2 = 0;
+            for (i, r) in self.range2.iter().enumerate() {
+                let r = r.to_bits();
+                let before: usize = self
+                    .range2
+                    .iter()
+                    .enumerate()
+                    .map(|(j, q)| {
+                        let q = q.to_bits();
+                        usize::from((q < r) | ((q == r) & (j < i)))
+                    })
+                    .sum();
+                median2 = if before == middle { r } else { median2 };
+            }
+            f64::from_bits(median2)
+        } else {
+            self.scratch.clear();
+            self.scratch.extend(&self.range2);
+            *self
+                .scratch
+                .select_nth_unstable_by(middle, f64::total_cmp)
+                .1
+        };
+        let low = (1.0 - tolerance).max(0.0);
+        let high = 1.0 + tolerance;
+        median2 * low * low..=median2 * high * high
     }
 }
 
@@ -122,66 +232,6 @@ impl OrganizedPointCloud {
 /// compared by it, which orders them as the range does without a square root.
 fn range2(p: &[f64; 3]) -> f64 {
     p[0] * p[0] + p[1] * p[1] + p[2] * p[2]
-}
-
-/// The mean of the `valid` points (with their squared ranges; the others come with an
-/// infinite one) whose range is within `tolerance` of the lower median range; NaN for
-/// none.
-fn robust_mean(block: &mut [([f64; 3], f64)], valid: usize, tolerance: f64) -> [f64; 3] {
-    if valid == 0 {
-        return [f64::NAN; 3];
-    }
-    // Invalid points order last, so the median of the valid ones has `middle` before it.
-    let middle = (valid - 1) / 2;
-    let median2 = if let [(_, a), (_, b), (_, c), (_, d)] = *block {
-        // A full 2 × 2 block: sorted by a network of minima and maxima.
-        let (a, b) = (a.min(b), a.max(b));
-        let (c, d) = (c.min(d), c.max(d));
-        let (a, c) = (a.min(c), a.max(c));
-        let (b, d) = (b.min(d), b.max(d));
-        let (b, c) = (b.min(c), b.max(c));
-        [a, b, c, d][middle]
-    } else if block.len() <= 16 {
-        // The point with `middle` points before it (ties by position): a handful of
-        // comparisons without branches, where sorting would mispredict on every block.
-        // Squared ranges are ≥ 0, so their bits order as they do.
-        let mut median2 = 0;
-        for (i, &(_, r)) in block.iter().enumerate() {
-            let r = r.to_bits();
-            let before: usize = block
-                .iter()
-                .enumerate()
-                .map(|(j, &(_, q))| {
-                    let q = q.to_bits();
-                    usize::from((q < r) | ((q == r) & (j < i)))
-                })
-                .sum();
-            median2 = if before == middle { r } else { median2 };
-        }
-        f64::from_bits(median2)
-    } else {
-        block
-            .select_nth_unstable_by(middle, |a, b| a.1.total_cmp(&b.1))
-            .1
-            .1
-    };
-    // |r − m| ≤ t·m, squared on both sides of m; infinite ranges fall outside.
-    let low = (1.0 - tolerance).max(0.0);
-    let (low2, high2) = (
-        median2 * low * low,
-        median2 * (1.0 + tolerance) * (1.0 + tolerance),
-    );
-    let mut sum = [0.0; 3];
-    let mut count = 0.0;
-    for (p, r2) in block.iter() {
-        let inside = (low2..=high2).contains(r2);
-        for (s, v) in sum.iter_mut().zip(p) {
-            *s += if inside { *v } else { 0.0 };
-        }
-        count += if inside { 1.0 } else { 0.0 };
-    }
-    let inverse = 1.0 / count;
-    sum.map(|s| s * inverse)
 }
 
 #[cfg(test)]
@@ -197,18 +247,23 @@ mod tests {
     }
 
     /// The definition, pixel by pixel: sort each block's valid points by range, take the
-    /// lower median, average those within the tolerance.
-    fn oracle(cloud: &OrganizedPointCloud, factor: usize, tolerance: f64) -> Vec<[f64; 3]> {
+    /// lower median, average those within the tolerance; they are the members.
+    fn oracle(
+        cloud: &OrganizedPointCloud,
+        factor: usize,
+        tolerance: f64,
+    ) -> (Vec<[f64; 3]>, Vec<bool>) {
         let (rows, cols) = (cloud.rows().div_ceil(factor), cloud.cols().div_ceil(factor));
         let mut out = Vec::new();
+        let mut members = vec![false; cloud.rows() * cloud.cols()];
         for r in 0..rows {
             for c in 0..cols {
-                let mut block: Vec<[f64; 3]> = Vec::new();
+                let mut block: Vec<([f64; 3], usize)> = Vec::new();
                 for i in r * factor..((r + 1) * factor).min(cloud.rows()) {
                     for j in c * factor..((c + 1) * factor).min(cloud.cols()) {
                         let p = cloud.point(i, j);
                         if is_valid(&p) {
-                            block.push(p);
+                            block.push((p, i * cloud.cols() + j));
                         }
                     }
                 }
@@ -216,18 +271,22 @@ mod tests {
                     out.push([f64::NAN; 3]);
                     continue;
                 }
-                block.sort_by(|a, b| range(a).total_cmp(&range(b)));
-                let median = range(&block[(block.len() - 1) / 2]);
-                let kept: Vec<&[f64; 3]> = block
+                block.sort_by(|a, b| range(&a.0).total_cmp(&range(&b.0)));
+                let median = range(&block[(block.len() - 1) / 2].0);
+                let kept: Vec<&([f64; 3], usize)> = block
                     .iter()
-                    .filter(|p| (range(p) - median).abs() <= tolerance * median)
+                    .filter(|(p, _)| (range(p) - median).abs() <= tolerance * median)
                     .collect();
+                for (_, i) in &kept {
+                    members[*i] = true;
+                }
                 out.push(
-                    [0, 1, 2].map(|k| kept.iter().map(|p| p[k]).sum::<f64>() / kept.len() as f64),
+                    [0, 1, 2]
+                        .map(|k| kept.iter().map(|(p, _)| p[k]).sum::<f64>() / kept.len() as f64),
                 );
             }
         }
-        out
+        (out, members)
     }
 
     fn same(a: &[[f64; 3]], b: &[[f64; 3]]) -> bool {
@@ -270,8 +329,11 @@ mod tests {
                 .collect();
             let cloud = OrganizedPointCloud::new(rows, cols, points).unwrap();
             let small = cloud.decimate(factor, tolerance).unwrap();
-            prop_assert_eq!((small.rows(), small.cols()), (rows.div_ceil(factor), cols.div_ceil(factor)));
-            prop_assert!(same(small.points(), &oracle(&cloud, factor, tolerance)));
+            let shape = (small.cloud.rows(), small.cloud.cols());
+            prop_assert_eq!(shape, (rows.div_ceil(factor), cols.div_ceil(factor)));
+            let (points, members) = oracle(&cloud, factor, tolerance);
+            prop_assert!(same(small.cloud.points(), &points));
+            prop_assert_eq!(small.members, members);
         }
     }
 
@@ -290,7 +352,8 @@ mod tests {
             .unwrap()
             .decimate(2, 0.02)
             .unwrap();
-        for p in small.points() {
+        assert!(small.members.iter().all(|&m| m));
+        for p in small.cloud.points() {
             assert!((p[2] - (2.0 + 0.1 * p[0])).abs() < 1e-12, "{p:?}");
         }
     }
@@ -303,10 +366,15 @@ mod tests {
         }
         let cloud = OrganizedPointCloud::new(4, 4, points).unwrap();
         let small = cloud.decimate(2, 0.02).unwrap();
-        assert!(!is_valid(&small.point(0, 0)));
-        assert_eq!(small.num_valid(), 3);
+        assert!(!is_valid(&small.cloud.point(0, 0)));
+        assert_eq!(small.cloud.num_valid(), 3);
+        assert_eq!(small.members.iter().filter(|&&m| m).count(), 12);
         let copy = cloud.decimate(1, 0.02).unwrap();
-        assert!(same(copy.points(), cloud.points()));
+        assert!(same(copy.cloud.points(), cloud.points()));
+        assert_eq!(
+            copy.members,
+            cloud.points().iter().map(is_valid).collect::<Vec<_>>()
+        );
     }
 
     #[test]

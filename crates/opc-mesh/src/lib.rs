@@ -7,7 +7,8 @@
 //! * [`OrganizedPointCloud::from_depth_image`] back-projects a 16-bit depth image through
 //!   pinhole [`Intrinsics`] ([`DepthOptions`]: depth scale, stride, maximum depth);
 //!   [`OrganizedPointCloud::downsample`] keeps every k-th row and column;
-//!   [`OrganizedPointCloud::decimate`] merges k × k blocks of pixels into robust means;
+//!   [`OrganizedPointCloud::decimate`] merges k × k blocks of pixels into robust means
+//!   ([`Decimated`]);
 //!   [`OrganizedPointCloud::fill_missing`] puts back isolated missing returns
 //!   ([`FillConfig`]).
 //! * [`OrganizedPointCloud::mesh`] (or [`OrganizedPointCloud::into_mesh`], which moves the
@@ -50,6 +51,7 @@ mod triangle_map;
 mod view;
 
 pub use cloud::{OrganizedPointCloud, is_valid};
+pub use decimate::Decimated;
 pub use depth::{DepthOptions, Intrinsics};
 pub use error::OpcError;
 pub use fill::FillConfig;

@@ -344,7 +344,11 @@ impl Extraction {
     fn mesh(&self) -> Mesh {
         Mesh {
             mesh: self.inner.mesh.clone(),
-            grid: self.grid,
+            // A decimated cloud's mesh has a vertex per block of pixels.
+            grid: match &self.inner.decimation {
+                Some(d) => Some(d.grid()),
+                None => self.grid,
+            },
         }
     }
 
@@ -357,8 +361,9 @@ impl Extraction {
         from_json(py, &value)
     }
 
-    /// Milliseconds per stage that ran, in order (``mesh``, ``laplacian``, ``bilateral``,
-    /// ``fastga``, ``regions``, ``polygons``, ``planes_polygons``, ``postprocess``), a dict.
+    /// Milliseconds per stage that ran, in order (``decimate``, ``mesh``, ``laplacian``,
+    /// ``bilateral``, ``fastga``, ``regions``, ``polygons``, ``planes_polygons``,
+    /// ``postprocess``), a dict.
     #[getter]
     fn timings<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let dict = PyDict::new(py);

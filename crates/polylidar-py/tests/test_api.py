@@ -247,3 +247,25 @@ def test_postprocess_polygons():
     with_section = pr.Polylidar(**ORGANIZED, postprocess={"alpha": 0.01}).extract_organized(box_corner())
     assert len(with_section.postprocessed) == 2
     assert json.loads(with_section.geojson())["features"][0]["properties"]["source"] in (0, 1)
+
+
+def test_decimated_frames_keep_labels_per_pixel():
+    # A tilted floor seen by a 64 × 96 camera, decimated 2 × 2: the mesh has a vertex per
+    # block, the labels one per input pixel.
+    rows, cols = 64, 96
+    v, u = np.mgrid[0:rows, 0:cols].astype(np.float64)
+    z = 2.0 + 0.01 * v
+    cloud = np.ascontiguousarray(np.stack([(u - 48) * z / 100, (v - 32) * z / 100, z], axis=-1))
+    common = dict(lmax=0.2, min_triangles=20, z_thresh=0.05, task_threads=2)
+    full = pr.Polylidar(**common).extract_organized(cloud)
+    half = pr.Polylidar(decimate={"factor": 2}, **common).extract_organized(cloud)
+    assert half.mesh.vertices.shape == (rows * cols // 4, 3)
+    assert full.mesh.vertices.shape == (rows * cols, 3)
+    labels = half.plane_labels()
+    assert labels.shape == (rows, cols)
+    assert (labels == 0).all() and (full.plane_labels() == 0).all()
+    assert half.counts["points"] == rows * cols
+    assert half.counts["decimated_points"] == rows * cols // 4
+    assert "decimate" in half.timings
+    with pytest.raises(ValueError, match="decimate.factor"):
+        pr.Polylidar(decimate={"factor": 0})

@@ -2,7 +2,7 @@
 //! ([`Config::decimate`](crate::Config::decimate)), and mapping the labels of the coarser
 //! grid back onto the input's pixels.
 
-use opc_mesh::{OpcError, OrganizedPointCloud, OrganizedPointCloudView, is_valid};
+use opc_mesh::{OpcError, OrganizedPointCloud, OrganizedPointCloudView};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
@@ -138,17 +138,14 @@ impl DecimateConfig {
         if factor <= 1 {
             return Ok(None);
         }
-        let (cloud, valid) = rayon::join(
-            || input.decimate(factor, self.range_tolerance),
-            || valid_bits(input.points()),
-        );
+        let decimated = input.decimate(factor, self.range_tolerance)?;
         let decimation = Decimation {
             factor,
             rows: input.rows(),
             cols: input.cols(),
-            valid,
+            members: decimated.members,
         };
-        Ok(Some((cloud?, decimation)))
+        Ok(Some((decimated.cloud, decimation)))
     }
 }
 
@@ -182,18 +179,20 @@ pub struct Decimation {
     pub rows: usize,
     /// The input's columns.
     pub cols: usize,
-    /// Which input pixels were valid, one bit each, row-major.
-    valid: Vec<u64>,
+    /// Which input pixels their block's point averaged, row-major
+    /// ([`opc_mesh::Decimated::members`]): valid, and on the surface the point lies on.
+    members: Vec<bool>,
 }
 
 impl Decimation {
-    /// The input's valid pixels.
-    pub fn valid_pixels(&self) -> usize {
-        self.valid.iter().map(|w| w.count_ones() as usize).sum()
+    /// The input pixels the decimated points averaged (valid, on their block's surface).
+    pub fn member_pixels(&self) -> usize {
+        self.members.iter().filter(|&&m| m).count()
     }
 
     /// The label of every input pixel from the labels of the decimated grid's points: a
-    /// valid pixel takes its block's label, an invalid one `-1`.
+    /// pixel its block's point averaged takes the block's label; an invalid one, or one
+    /// across a depth jump from that point, `-1`.
     pub fn expand(&self, labels: &[i32]) -> Vec<i32> {
         let cols_small = self.cols.div_ceil(self.factor);
         let mut out = vec![-1i32; self.rows * self.cols];
@@ -202,8 +201,7 @@ impl Decimation {
             .for_each(|(r, row)| {
                 let small = &labels[(r / self.factor) * cols_small..][..cols_small];
                 for (c, label) in row.iter_mut().enumerate() {
-                    let i = r * self.cols + c;
-                    if self.valid[i / 64] >> (i % 64) & 1 == 1 {
+                    if self.members[r * self.cols + c] {
                         *label = small[c / self.factor];
                     }
                 }
@@ -221,7 +219,7 @@ impl Decimation {
         )
     }
 
-    /// The valid input pixels (row-major indices) of every block, block by block.
+    /// The member pixels (row-major indices) of every block, block by block.
     fn blocks(&self) -> impl Iterator<Item = impl Iterator<Item = usize> + '_> + '_ {
         let (rows, cols) = self.grid();
         (0..rows * cols).map(move |b| {
@@ -230,13 +228,13 @@ impl Decimation {
                 .flat_map(move |i| {
                     (c..(c + self.factor).min(self.cols)).map(move |j| i * self.cols + j)
                 })
-                .filter(|&i| self.valid[i / 64] >> (i % 64) & 1 == 1)
+                .filter(|&i| self.members[i])
         })
     }
 
     /// One colour per point of the decimated grid (per mesh vertex) from one per input
-    /// pixel: the mean of the block's valid pixels' colours, black for a block without
-    /// any.
+    /// pixel: the mean of the colours of the pixels the point averaged, black for a block
+    /// without any.
     ///
     /// # Errors
     /// [`PolylidarError::Config`] when `colors` is not one per input pixel.
@@ -258,7 +256,8 @@ impl Decimation {
 
     /// One label per point of the decimated grid from one per input pixel (ground
     /// truth, say): the label most of the block's valid pixels carry (`-1` counts as a
-    /// label; the smallest wins a tie), `-1` for a block without valid pixels.
+    /// label; the smallest wins a tie) among the pixels the point averaged, `-1` for a
+    /// block without any.
     ///
     /// # Errors
     /// [`PolylidarError::Config`] when `labels` is not one per input pixel.
@@ -294,20 +293,6 @@ impl Decimation {
             reason: "must be one per input pixel of the decimated cloud",
         })
     }
-}
-
-/// One bit per point, set where it is valid.
-fn valid_bits(points: &[[f64; 3]]) -> Vec<u64> {
-    points
-        .par_chunks(64)
-        .with_min_len(256)
-        .map(|chunk| {
-            chunk
-                .iter()
-                .enumerate()
-                .fold(0u64, |bits, (k, p)| bits | (u64::from(is_valid(p)) << k))
-        })
-        .collect()
 }
 
 #[cfg(test)]
@@ -349,7 +334,7 @@ mod tests {
         let config = DecimateConfig::default().with_factor(DecimateFactor::Fixed(2));
         let (_, decimation) = config.apply(view).unwrap().unwrap();
         assert_eq!(decimation.grid(), (2, 2));
-        assert_eq!(decimation.valid_pixels(), 11);
+        assert_eq!(decimation.member_pixels(), 11);
         let colors: Vec<[u8; 3]> = (0..12u8).map(|i| [i, 10 * i, 255 - i]).collect();
         // Block 0 leaves out the invalid pixel 0: pixels 1, 4, 5.
         let mean = |pixels: &[u8]| -> [u8; 3] {

@@ -13,8 +13,7 @@ use polypost::{Plane, Polygon3, PostProcessor};
 use crate::config::{BilateralConfig, LaplacianConfig, LaplacianIterations, SmoothingBackend};
 use crate::reuse;
 use crate::{
-    Counts, Decimation, ExtractedPolygon, Extraction, Polylidar, PolylidarError,
-    PostprocessedPolygon, Timings,
+    Counts, ExtractedPolygon, Extraction, Polylidar, PolylidarError, PostprocessedPolygon, Timings,
 };
 
 impl Polylidar {
@@ -78,6 +77,7 @@ impl Polylidar {
                 None => None,
             };
             let (decimated, decimation) = decimated.unzip();
+            let input_points = decimation.as_ref().map(|_| input.num_valid());
             let (input, owned) = match &decimated {
                 Some(small) => (small.view(), Some(small)),
                 None => (input, owned),
@@ -133,9 +133,7 @@ impl Polylidar {
                 .map_or_else(|| input.num_valid(), |c| c.num_valid())
                 - filled_count;
             let counts = Counts {
-                points: decimation
-                    .as_ref()
-                    .map_or(grid_points, Decimation::valid_pixels),
+                points: input_points.unwrap_or(grid_points),
                 decimated_points: if decimation.is_some() { grid_points } else { 0 },
                 laplacian_iterations,
                 filled: filled_count,
