@@ -6,7 +6,8 @@
 //! rayon pool of that size per case), all from a borrowed cloud whose points are copied
 //! into the mesh; at 2 threads also `reusing` (writing over the previous iteration's mesh
 //! with `mesh_reusing`, as for a stream of frames), `moved` (`into_mesh`, no copy of the
-//! points) and `no_normals`.
+//! points) and `no_normals`. Group `decimate`: `OrganizedPointCloud::decimate` by 2 (the
+//! `rgbd` preset's first stage at 640 × 480) on 1 and 2 threads.
 //!
 //! `cargo bench -p polylidar-benches --bench opc_mesh`
 
@@ -137,5 +138,19 @@ fn bench_mesh(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, bench_mesh);
+fn bench_decimate(c: &mut Criterion) {
+    let (one, two) = (pool(1), pool(2));
+    let mut group = c.benchmark_group("decimate");
+    for (name, cloud) in clouds() {
+        for (threads, pool) in [(1, &one), (2, &two)] {
+            let case = format!("by_2_threads_{threads}");
+            group.bench_with_input(BenchmarkId::new(name, case), &cloud, |b, cloud| {
+                b.iter(|| pool.install(|| cloud.decimate(black_box(2), 0.02)))
+            });
+        }
+    }
+    group.finish();
+}
+
+criterion_group!(benches, bench_mesh, bench_decimate);
 criterion_main!(benches);

@@ -12,6 +12,8 @@
 //! averaged. A block straddling a depth jump thus takes the surface its median pixel lies
 //! on instead of a point floating between the two.
 
+use std::ops::Range;
+
 use rayon::prelude::*;
 
 use crate::view::strided_shape;
@@ -80,38 +82,30 @@ impl OrganizedPointCloudView<'_> {
             .par_chunks_mut(cols)
             .zip(members.par_chunks_mut(factor * in_cols))
             .enumerate()
-            .for_each_init(
-                || Block::new(factor),
-                |block, (r, (out, members))| {
-                    let block_rows = 0..members.len() / in_cols;
-                    let first = r * factor * in_cols;
-                    for (c, o) in out.iter_mut().enumerate() {
-                        let block_cols = c * factor..((c + 1) * factor).min(in_cols);
-                        block.clear();
-                        for i in block_rows.clone() {
-                            let at = first + i * in_cols;
-                            block.extend(&input[at + block_cols.start..at + block_cols.end]);
-                        }
-                        let window = block.window(range_tolerance);
-                        let (mut sum, mut count) = ([0.0; 3], 0.0);
-                        let mut k = 0;
-                        for i in block_rows.clone() {
-                            let row = &mut members[i * in_cols..][block_cols.clone()];
-                            for member in row {
-                                let inside = window.contains(&block.range2[k]);
-                                for (s, v) in sum.iter_mut().zip(block.points[k]) {
-                                    *s += if inside { v } else { 0.0 };
-                                }
-                                count += if inside { 1.0 } else { 0.0 };
-                                *member = inside;
-                                k += 1;
+            .for_each_init(Block::default, |block, (r, (out, members))| {
+                let block_rows = members.len() / in_cols;
+                let input = &input[r * factor * in_cols..][..members.len()];
+                for (c, o) in out.iter_mut().enumerate() {
+                    let (c0, c1) = (c * factor, ((c + 1) * factor).min(in_cols));
+                    block.fill(input, in_cols, block_rows, c0..c1);
+                    let window = block.window(range_tolerance);
+                    let (mut sum, mut count, mut k) = ([0.0; 3], 0.0, 0);
+                    for i in 0..block_rows {
+                        for member in &mut members[i * in_cols + c0..i * in_cols + c1] {
+                            let inside = window.contains(&block.range2[k]);
+                            let p = block.points[k];
+                            for (s, v) in sum.iter_mut().zip(p) {
+                                *s += if inside { v } else { 0.0 };
                             }
+                            count += if inside { 1.0 } else { 0.0 };
+                            *member = inside;
+                            k += 1;
                         }
-                        let inverse = 1.0 / count;
-                        *o = sum.map(|s| s * inverse);
                     }
-                },
-            );
+                    let inverse = 1.0 / count;
+                    *o = sum.map(|s| s * inverse);
+                }
+            });
         Ok(Decimated {
             cloud: OrganizedPointCloud::new(rows, cols, points)?,
             members,
@@ -145,36 +139,41 @@ pub struct Decimated {
 /// One block's pixels: their points and squared ranges (infinite for invalid ones), and
 /// room to select a large block's median.
 struct Block {
-    points: Vec<[f64; 3]>,
-    range2: Vec<f64>,
+    points: [[f64; 3]; MAX_FACTOR * MAX_FACTOR],
+    range2: [f64; MAX_FACTOR * MAX_FACTOR],
+    len: usize,
     valid: usize,
     scratch: Vec<f64>,
 }
 
-impl Block {
-    fn new(factor: usize) -> Self {
-        let n = factor * factor;
+impl Default for Block {
+    fn default() -> Self {
         Self {
-            points: Vec::with_capacity(n),
-            range2: Vec::with_capacity(n),
+            points: [[0.0; 3]; MAX_FACTOR * MAX_FACTOR],
+            range2: [0.0; MAX_FACTOR * MAX_FACTOR],
+            len: 0,
             valid: 0,
-            scratch: Vec::with_capacity(n),
+            scratch: Vec::new(),
         }
     }
+}
 
-    fn clear(&mut self) {
-        self.points.clear();
-        self.range2.clear();
-        self.valid = 0;
-    }
-
-    fn extend(&mut self, pixels: &[[f64; 3]]) {
-        for p in pixels {
-            let ok = is_valid(p);
-            self.points.push(*p);
-            self.range2.push(if ok { range2(p) } else { f64::INFINITY });
-            self.valid += usize::from(ok);
+impl Block {
+    /// Takes the pixels of columns `cols` of the first `rows` rows of `input` (rows of
+    /// `stride` points).
+    fn fill(&mut self, input: &[[f64; 3]], stride: usize, rows: usize, cols: Range<usize>) {
+        let (mut n, mut valid) = (0, 0);
+        for i in 0..rows {
+            for p in &input[i * stride + cols.start..i * stride + cols.end] {
+                let ok = is_valid(p);
+                self.points[n] = *p;
+                self.range2[n] = if ok { range2(p) } else { f64::INFINITY };
+                valid += usize::from(ok);
+                n += 1;
+            }
         }
+        self.len = n;
+        self.valid = valid;
     }
 
     /// The squared ranges within `tolerance` of the lower median range of the valid
@@ -187,7 +186,8 @@ impl Block {
         // Invalid points order last, so the median of the valid ones has `middle` before
         // it.
         let middle = (self.valid - 1) / 2;
-        let median2 = if let [a, b, c, d] = *self.range2 {
+        let range2 = &self.range2[..self.len];
+        let median2 = if let [a, b, c, d] = *range2 {
             // A full 2 × 2 block: sorted by a network of minima and maxima.
             let (a, b) = (a.min(b), a.max(b));
             let (c, d) = (c.min(d), c.max(d));
@@ -195,15 +195,14 @@ impl Block {
             let (b, d) = (b.min(d), b.max(d));
             let (b, c) = (b.min(c), b.max(c));
             [a, b, c, d][middle]
-        } else if self.range2.len() <= 16 {
+        } else if range2.len() <= 16 {
             // The point with `middle` points before it (ties by position): a handful of
             // comparisons without branches, where sorting would mispredict on every
             // block. Squared ranges are ≥ 0, so their bits order as they do.
             let mut median2 = 0;
-            for (i, r) in self.range2.iter().enumerate() {
+            for (i, r) in range2.iter().enumerate() {
                 let r = r.to_bits();
-                let before: usize = self
-                    .range2
+                let before: usize = range2
                     .iter()
                     .enumerate()
                     .map(|(j, q)| {
@@ -216,7 +215,7 @@ impl Block {
             f64::from_bits(median2)
         } else {
             self.scratch.clear();
-            self.scratch.extend(&self.range2);
+            self.scratch.extend_from_slice(range2);
             *self
                 .scratch
                 .select_nth_unstable_by(middle, f64::total_cmp)
