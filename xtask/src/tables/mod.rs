@@ -169,7 +169,11 @@ pub fn write_index(ctx: &Ctx) -> Result<()> {
         "The paper's figures come from different hardware (AMD Ryzen 9 3900X, 12 cores, \
          4.2 GHz; NVIDIA RTX 2070 Super) and from C++/Python code; compare trends and ratios, \
          not absolute times. On a shared machine whose load average exceeds 1 the timings are \
-         noisy; each table says so in its header when that happened.\n"
+         noisy; each table says so in its header when that happened. `--only` republishes some \
+         tables and leaves the others: each table's header names the machine and date it was \
+         measured on, and cloud machines of one name differ (the CPU line gives family, model \
+         and vector extension; an AVX2 machine runs the kernels about half as fast as an \
+         AVX-512 one), so compare timings within a table.\n"
     );
     let _ = writeln!(s, "## Results\n");
     for spec in ALL {

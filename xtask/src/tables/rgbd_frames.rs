@@ -21,6 +21,10 @@ use crate::timing::{Stats, median_of, ms};
 const NEAR_MM: u16 = 300;
 const FAR_MM: u16 = 3000;
 
+/// Stages timed beside the pipeline's [`STAGES`]: rgbd-auto's filling of missing returns
+/// and the `rgbd` preset's decimation of camera-resolution frames.
+const EXTRA_STAGES: [&str; 2] = ["fill", "decimate"];
+
 /// Frames in the stream each row times.
 const STREAM_FRAMES: usize = 30;
 
@@ -150,6 +154,7 @@ pub fn section(ctx: &Ctx) -> Result<String> {
     header.extend(
         [
             "fill",
+            "decimate",
             "total (wall)",
             "p90 (wall)",
             "must / target",
@@ -170,7 +175,7 @@ pub fn section(ctx: &Ctx) -> Result<String> {
             }
             let (first, growth) = peak_growth(|| polylidar.extract_organized(&size.frames[0]));
             drop(first?);
-            let mut per_stage: Vec<Vec<f64>> = vec![Vec::new(); STAGES.len() + 1];
+            let mut per_stage: Vec<Vec<f64>> = vec![Vec::new(); STAGES.len() + EXTRA_STAGES.len()];
             let mut wall = Vec::with_capacity(frames);
             let mut polygons = Vec::with_capacity(frames);
             for k in 0..frames {
@@ -179,7 +184,12 @@ pub fn section(ctx: &Ctx) -> Result<String> {
                 let extraction = polylidar.extract_organized(cloud)?;
                 wall.push(start.elapsed().as_secs_f64() * 1e3);
                 let timings = &extraction.diagnostics.timings;
-                for (j, stage) in STAGES.iter().map(|(s, _)| *s).chain(["fill"]).enumerate() {
+                for (j, stage) in STAGES
+                    .iter()
+                    .map(|(s, _)| *s)
+                    .chain(EXTRA_STAGES)
+                    .enumerate()
+                {
                     if let Some(d) = timings.get(stage) {
                         per_stage[j].push(d.as_secs_f64() * 1e3);
                     }
@@ -210,7 +220,7 @@ pub fn section(ctx: &Ctx) -> Result<String> {
             table.row(row);
         }
     }
-    let blank = || vec![String::new(); STAGES.len() + 1];
+    let blank = || vec![String::new(); STAGES.len() + EXTRA_STAGES.len()];
     let mut paper = vec![
         "paper: D435i 424 × 240 after SDK filters (Basement / Main Floor means)".to_owned(),
         "Table 7 (GPU smoothing + 4 threads)".to_owned(),
@@ -219,7 +229,7 @@ pub fn section(ctx: &Ctx) -> Result<String> {
         [0.4, 0.4, 0.5, 1.25, 1.65, 4.95]
             .map(ms)
             .into_iter()
-            .chain([String::new()]),
+            .chain(EXTRA_STAGES.map(|_| String::new())),
     );
     paper.extend([
         "11.4 / 11.7 (incl. 2.4 SDK filters)".to_owned(),
@@ -249,7 +259,9 @@ pub fn section(ctx: &Ctx) -> Result<String> {
          `Polylidar::extract_organized` on {threads} threads over a stream of {frames} frames \
          (the frames of a size repeated in turn; one warm-up pass first), one `Polylidar` kept \
          across the stream, the frame already in memory. Stage columns are medians over the \
-         stream (ms); `fill` is rgbd-auto's filling of missing returns. Total is the median \
+         stream (ms); `fill` is rgbd-auto's filling of missing returns, `decimate` the `rgbd` preset's \
+         merging of 2 × 2 pixel blocks at 640 × 480 and 848 × 480 (its other stages then run on \
+         the 320 × 240 and 424 × 240 grids). Total is the median \
          wall time of a frame (min–max), p90 its 90th percentile. *Input cloud* is the \
          organized cloud of one frame (24 bytes a pixel); *peak RSS Δ* is how far one frame \
          raised the process's peak resident memory above what it held before (Linux \
