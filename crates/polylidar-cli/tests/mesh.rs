@@ -12,13 +12,26 @@ fn temp_dir(name: &str) -> PathBuf {
     common::scratch("mesh", name)
 }
 
+/// The paths of a shared depth frame and of the PrimeSense camera JSON, or `None` (the
+/// skip recorded for `test`) when the fixtures are missing.
+fn frame_and_camera(frame: &str, test: &str) -> Option<(PathBuf, PathBuf)> {
+    match (
+        test_fixtures::fixture(frame),
+        test_fixtures::fixture("rgbd/camera_primesense.json"),
+    ) {
+        (Some(depth), Some(camera)) => Some((depth, camera)),
+        _ => {
+            test_fixtures::record_skip(&format!("{test}: {frame} missing"));
+            None
+        }
+    }
+}
+
 #[test]
 fn textured_mesh_of_an_icl_frame() {
-    let (Some(depth), Some(camera)) = (
-        test_fixtures::fixture("rgbd/icl_living_depth_00000.png"),
-        test_fixtures::fixture("rgbd/camera_primesense.json"),
-    ) else {
-        test_fixtures::record_skip("polylidar mesh: ICL frame missing");
+    let Some((depth, camera)) =
+        frame_and_camera("rgbd/icl_living_depth_00000.png", "polylidar mesh")
+    else {
         return;
     };
     let dir = temp_dir("icl");
@@ -136,11 +149,10 @@ fn a_texture_without_colours_is_a_clear_error() {
 /// beside the PNG), and `--depth-scale`; each gives the same mesh of the same frame.
 #[test]
 fn every_camera_source_gives_the_same_mesh() {
-    let (Some(depth), Some(camera)) = (
-        test_fixtures::fixture("rgbd/icl_living_depth_00000.png"),
-        test_fixtures::fixture("rgbd/camera_primesense.json"),
+    let Some((depth, camera)) = frame_and_camera(
+        "rgbd/icl_living_depth_00000.png",
+        "polylidar mesh camera sources",
     ) else {
-        test_fixtures::record_skip("polylidar mesh camera sources: ICL frame missing");
         return;
     };
     let dir = temp_dir("camera");
@@ -234,11 +246,7 @@ fn every_camera_source_gives_the_same_mesh() {
 fn a_decimated_frame_is_meshed_with_its_blocks_colours() {
     // The rgbd preset decimates a 640 × 480 frame by 2: the mesh, its texture and the
     // plot follow the 320 × 240 grid, the labels the input's pixels.
-    let (Some(depth), Some(camera)) = (
-        test_fixtures::fixture("rgbd/tum_depth.png"),
-        test_fixtures::fixture("rgbd/camera_primesense.json"),
-    ) else {
-        test_fixtures::record_skip("polylidar mesh: TUM frame missing");
+    let Some((depth, camera)) = frame_and_camera("rgbd/tum_depth.png", "polylidar mesh") else {
         return;
     };
     let dir = temp_dir("decimated");

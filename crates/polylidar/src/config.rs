@@ -653,13 +653,7 @@ impl Config {
     /// the field too); [`PolylidarError::ThreadPool`] for more threads than
     /// [`max_threads`].
     pub fn validate(&self) -> Result<(), PolylidarError> {
-        let bad = |field, value: String, reason| {
-            Err(PolylidarError::Config {
-                field,
-                value,
-                reason,
-            })
-        };
+        let bad = PolylidarError::config;
         if !(self.alpha.is_finite() && self.alpha >= 0.0) {
             return bad(
                 "alpha",

@@ -95,13 +95,7 @@ impl DecimateConfig {
     /// # Errors
     /// [`PolylidarError::Config`] naming the field.
     pub fn validate(&self) -> Result<(), PolylidarError> {
-        let bad = |field, value: String, reason| {
-            Err(PolylidarError::Config {
-                field,
-                value,
-                reason,
-            })
-        };
+        let bad = PolylidarError::config;
         if let DecimateFactor::Fixed(n) = self.factor
             && !(1..=MAX_DECIMATE_FACTOR).contains(&n)
         {

@@ -72,3 +72,19 @@ pub enum PolylidarError {
         message: String,
     },
 }
+
+impl PolylidarError {
+    /// `Err(PolylidarError::Config { .. })` for the TOML `field` holding `value`, with
+    /// what it must be.
+    pub(crate) fn config<T>(
+        field: &'static str,
+        value: impl ToString,
+        reason: &'static str,
+    ) -> Result<T, Self> {
+        Err(Self::Config {
+            field,
+            value: value.to_string(),
+            reason,
+        })
+    }
+}

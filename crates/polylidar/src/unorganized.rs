@@ -135,13 +135,7 @@ impl UnorganizedConfig {
     /// # Errors
     /// [`PolylidarError::Config`] naming the bad field.
     pub fn validate(&self) -> Result<(), PolylidarError> {
-        let bad = |field, value: String, reason| {
-            Err(PolylidarError::Config {
-                field,
-                value,
-                reason,
-            })
-        };
+        let bad = PolylidarError::config;
         if self.k < 3 {
             return bad("unorganized.k", self.k.to_string(), "must be at least 3");
         }
