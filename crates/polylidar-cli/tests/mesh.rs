@@ -12,6 +12,20 @@ fn temp_dir(name: &str) -> PathBuf {
     common::scratch("mesh", name)
 }
 
+/// Asserts that over a third of the atlas's texels hold a colour brighter than black.
+fn assert_mostly_lit(atlas: &polylidar_io::ColorImage) {
+    let lit = atlas
+        .rgb
+        .iter()
+        .filter(|c| c.iter().any(|&v| v > 30))
+        .count();
+    assert!(
+        lit * 3 > atlas.rgb.len(),
+        "{lit} of {} texels lit",
+        atlas.rgb.len()
+    );
+}
+
 /// The paths of a shared depth frame and of the PrimeSense camera JSON, or `None` (the
 /// skip recorded for `test`) when the fixtures are missing.
 fn frame_and_camera(frame: &str, test: &str) -> Option<(PathBuf, PathBuf)> {
@@ -74,16 +88,7 @@ fn textured_mesh_of_an_icl_frame() {
     assert!(atlas.width > 10 && atlas.height > 10);
     // The atlas holds the frame's colours: black only outside the polygons, between the
     // textures and past the last shelf.
-    let lit = atlas
-        .rgb
-        .iter()
-        .filter(|c| c.iter().any(|&v| v > 30))
-        .count();
-    assert!(
-        lit * 3 > atlas.rgb.len(),
-        "{lit} of {} texels lit",
-        atlas.rgb.len()
-    );
+    assert_mostly_lit(&atlas);
     let ply = std::fs::read(dir.join("room.ply")).unwrap();
     let header = String::from_utf8_lossy(&ply[..400.min(ply.len())]).into_owned();
     assert!(
@@ -268,16 +273,7 @@ fn a_decimated_frame_is_meshed_with_its_blocks_colours() {
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(stdout.contains("decimated 2 × 2"), "{stdout}");
     let atlas = polylidar_io::read_color_image(dir.join("tum.png")).unwrap();
-    let lit = atlas
-        .rgb
-        .iter()
-        .filter(|c| c.iter().any(|&v| v > 30))
-        .count();
-    assert!(
-        lit * 3 > atlas.rgb.len(),
-        "{lit} of {} texels lit",
-        atlas.rgb.len()
-    );
+    assert_mostly_lit(&atlas);
     let plot = polylidar_io::read_color_image(dir.join("tum_plot.png")).unwrap();
     assert_eq!((plot.width, plot.height), (640, 480)); // 320 × 240 blocks, twice
 
