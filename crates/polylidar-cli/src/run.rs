@@ -301,6 +301,10 @@ fn inapplicable(args: &InputArgs, input: &Input) -> Vec<String> {
             p.no_smoothing && !matches!(input, Input::Organized(_)),
         ),
         ("--gpu", p.gpu && !matches!(input, Input::Organized(_))),
+        (
+            "--decimate",
+            p.decimate.is_some() && !matches!(input, Input::Organized(_)),
+        ),
     ];
     given
         .into_iter()

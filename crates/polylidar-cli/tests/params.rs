@@ -251,3 +251,26 @@ fn organized_input_gets_the_adaptive_preset_of_its_sensor() {
     ]));
     assert_eq!(out["parameters"]["preset"], "synpeb-auto");
 }
+
+#[test]
+fn decimate_is_checked_and_reported_where_it_does_not_apply() {
+    let dir = scratch("decimate");
+    let csv = dir.join("points.csv");
+    let rows: String = (0..100)
+        .map(|i| format!("{},{}\n", i % 10, i / 10))
+        .collect();
+    std::fs::write(&csv, format!("x,y\n{rows}")).unwrap();
+    let out = polylidar(&["extract", csv.to_str().unwrap(), "--decimate", "2"]);
+    assert!(out.status.success());
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("warning: --decimate does not apply"),
+        "{stderr}"
+    );
+    for bad in ["0", "17", "half"] {
+        let out = polylidar(&["extract", csv.to_str().unwrap(), "--decimate", bad]);
+        assert_eq!(out.status.code(), Some(2), "--decimate {bad}");
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(stderr.contains("a block side 1 to 16"), "{stderr}");
+    }
+}
