@@ -124,7 +124,8 @@ impl Extraction {
     /// at it, the polygon with more triangles wins (the lower index on a tie). For an
     /// organized cloud vertex `r · cols + c` is pixel `(r, c)`, so this is the predicted
     /// plane image, row-major; a decimated cloud ([`Self::decimation`]) gives one label
-    /// per input pixel, its block's (`-1` where the input pixel is invalid).
+    /// per input pixel, its block's (`-1` where the input pixel is invalid or lies across
+    /// a depth jump from its block's point).
     ///
     /// ```
     /// use polylidar::{Config, Polylidar};
