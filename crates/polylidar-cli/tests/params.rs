@@ -273,4 +273,5 @@ fn decimate_is_checked_and_reported_where_it_does_not_apply() {
         let stderr = String::from_utf8_lossy(&out.stderr);
         assert!(stderr.contains("a block side 1 to 16"), "{stderr}");
     }
+    std::fs::remove_dir_all(&dir).ok();
 }
