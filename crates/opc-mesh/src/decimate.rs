@@ -26,7 +26,8 @@ impl OrganizedPointCloudView<'_> {
     /// Merges every `factor × factor` block of pixels into one point: the mean of the
     /// block's valid points whose range lies within `range_tolerance` (a share, e.g.
     /// `0.02`) of the range of the block's median point, the lower median for an even
-    /// count; invalid (NaN) where the block has no valid point. Blocks at the right and
+    /// count (a point whose squared range overflows counts as invalid); invalid (NaN)
+    /// where the block has no valid point. Blocks at the right and
     /// bottom edges may be partial: the cloud has `⌈rows / factor⌉ × ⌈cols / factor⌉`
     /// points and point `(r, c)` stands for pixels `(r · factor .. (r + 1) · factor,
     /// c · factor .. (c + 1) · factor)`, those of them it averaged marked in
@@ -165,9 +166,12 @@ impl Block {
         let (mut n, mut valid) = (0, 0);
         for i in 0..rows {
             for p in &input[i * stride + cols.start..i * stride + cols.end] {
-                let ok = is_valid(p);
+                // A point so far out that its squared range overflows counts as invalid:
+                // it would otherwise order with the invalid ones.
+                let r2 = range2(p);
+                let ok = is_valid(p) && r2.is_finite();
                 self.points[n] = *p;
-                self.range2[n] = if ok { range2(p) } else { f64::INFINITY };
+                self.range2[n] = if ok { r2 } else { f64::INFINITY };
                 valid += usize::from(ok);
                 n += 1;
             }
@@ -261,7 +265,7 @@ mod tests {
                 for i in r * factor..((r + 1) * factor).min(cloud.rows()) {
                     for j in c * factor..((c + 1) * factor).min(cloud.cols()) {
                         let p = cloud.point(i, j);
-                        if is_valid(&p) {
+                        if is_valid(&p) && range(&p).is_finite() {
                             block.push((p, i * cloud.cols() + j));
                         }
                     }
@@ -374,6 +378,19 @@ mod tests {
             copy.members,
             cloud.points().iter().map(is_valid).collect::<Vec<_>>()
         );
+    }
+
+    #[test]
+    fn points_whose_range_overflows_are_left_out() {
+        let mut points = vec![[0.0, 0.0, 1.0]; 16];
+        points[0] = [1e200, 0.0, 1.0];
+        points[1] = [f64::NAN; 3];
+        let small = OrganizedPointCloud::new(4, 4, points)
+            .unwrap()
+            .decimate(2, 0.02)
+            .unwrap();
+        assert_eq!(small.cloud.point(0, 0), [0.0, 0.0, 1.0]);
+        assert!(!small.members[0] && !small.members[1] && small.members[4]);
     }
 
     #[test]

@@ -187,7 +187,7 @@ impl Decimation {
     /// The label of every input pixel from the labels of the decimated grid's points: a
     /// pixel its block's point averaged takes the block's label; an invalid one, or one
     /// across a depth jump from that point, `-1`.
-    pub fn expand(&self, labels: &[i32]) -> Vec<i32> {
+    pub(crate) fn expand(&self, labels: &[i32]) -> Vec<i32> {
         let cols_small = self.cols.div_ceil(self.factor);
         let mut out = vec![-1i32; self.rows * self.cols];
         out.par_chunks_mut(self.cols)
