@@ -40,7 +40,10 @@
 //! The backend is the smoother's type, and every smoother implements [`Smoother`].
 //! [`CpuSmoother::new`] (rows over the rayon pool) and [`CpuSmoother::serial`] (one
 //! thread) run the same row kernels and give bit-identical results at any thread count;
-//! the free functions [`laplacian_filter`] and [`bilateral_filter`] run the first.
+//! the free functions [`laplacian_filter`] and [`bilateral_filter`] run the first. The
+//! bilateral kernel's weights and sums use fused multiply-adds (`f32::mul_add`, rounded
+//! once): one instruction on CPUs with FMA, which the kernel is compiled for, and a
+//! slower library call giving the same bits elsewhere.
 //! [`GpuSmoother`] runs WGSL
 //! compute shaders through wgpu that mirror those kernels operation for operation; GPUs
 //! may fuse multiply-adds and use their own `sqrt`, division and `exp`, so results agree

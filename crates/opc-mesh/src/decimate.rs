@@ -79,16 +79,18 @@ impl OrganizedPointCloudView<'_> {
         let (in_rows, in_cols) = (self.rows(), self.cols());
         let mut points = vec![[0.0; 3]; rows * cols];
         let mut members = vec![false; in_rows * in_cols];
-        points
+        let valid_pixels = points
             .par_chunks_mut(cols)
             .zip(members.par_chunks_mut(factor * in_cols))
             .enumerate()
-            .for_each_init(Block::default, |block, (r, (out, members))| {
+            .map_init(Block::default, |block, (r, (out, members))| {
                 let block_rows = members.len() / in_cols;
                 let input = &input[r * factor * in_cols..][..members.len()];
+                let mut valid_pixels = 0;
                 for (c, o) in out.iter_mut().enumerate() {
                     let (c0, c1) = (c * factor, ((c + 1) * factor).min(in_cols));
                     block.fill(input, in_cols, block_rows, c0..c1);
+                    valid_pixels += block.finite;
                     let window = block.window(range_tolerance);
                     let (mut sum, mut count, mut k) = ([0.0; 3], 0.0, 0);
                     for i in 0..block_rows {
@@ -106,10 +108,13 @@ impl OrganizedPointCloudView<'_> {
                     let inverse = 1.0 / count;
                     *o = sum.map(|s| s * inverse);
                 }
-            });
+                valid_pixels
+            })
+            .sum();
         Ok(Decimated {
             cloud: OrganizedPointCloud::new(rows, cols, points)?,
             members,
+            valid_pixels,
         })
     }
 }
@@ -135,6 +140,9 @@ pub struct Decimated {
     /// valid and within the range tolerance of the block's median). A pixel left out
     /// lies across a depth jump from the surface its block's point lies on.
     pub members: Vec<bool>,
+    /// The input's valid pixels ([`OrganizedPointCloudView::num_valid`]), counted on
+    /// the way.
+    pub valid_pixels: usize,
 }
 
 /// One block's pixels: their points and squared ranges (infinite for invalid ones), and
@@ -143,7 +151,10 @@ struct Block {
     points: [[f64; 3]; MAX_FACTOR * MAX_FACTOR],
     range2: [f64; MAX_FACTOR * MAX_FACTOR],
     len: usize,
+    /// Pixels with a finite squared range, which take part in the median.
     valid: usize,
+    /// Valid (finite) pixels.
+    finite: usize,
     scratch: Vec<f64>,
 }
 
@@ -154,6 +165,7 @@ impl Default for Block {
             range2: [0.0; MAX_FACTOR * MAX_FACTOR],
             len: 0,
             valid: 0,
+            finite: 0,
             scratch: Vec::new(),
         }
     }
@@ -163,21 +175,24 @@ impl Block {
     /// Takes the pixels of columns `cols` of the first `rows` rows of `input` (rows of
     /// `stride` points).
     fn fill(&mut self, input: &[[f64; 3]], stride: usize, rows: usize, cols: Range<usize>) {
-        let (mut n, mut valid) = (0, 0);
+        let (mut n, mut valid, mut finite) = (0, 0, 0);
         for i in 0..rows {
             for p in &input[i * stride + cols.start..i * stride + cols.end] {
                 // A point so far out that its squared range overflows counts as invalid:
                 // it would otherwise order with the invalid ones.
                 let r2 = range2(p);
-                let ok = is_valid(p) && r2.is_finite();
+                let is_finite = is_valid(p);
+                let ok = is_finite && r2.is_finite();
                 self.points[n] = *p;
                 self.range2[n] = if ok { r2 } else { f64::INFINITY };
                 valid += usize::from(ok);
+                finite += usize::from(is_finite);
                 n += 1;
             }
         }
         self.len = n;
         self.valid = valid;
+        self.finite = finite;
     }
 
     /// The squared ranges within `tolerance` of the lower median range of the valid
@@ -337,6 +352,7 @@ mod tests {
             let (points, members) = oracle(&cloud, factor, tolerance);
             prop_assert!(same(small.cloud.points(), &points));
             prop_assert_eq!(small.members, members);
+            prop_assert_eq!(small.valid_pixels, cloud.num_valid());
         }
     }
 
@@ -391,6 +407,8 @@ mod tests {
             .unwrap();
         assert_eq!(small.cloud.point(0, 0), [0.0, 0.0, 1.0]);
         assert!(!small.members[0] && !small.members[1] && small.members[4]);
+        // The far point is valid (finite), only left out of its block's mean.
+        assert_eq!(small.valid_pixels, 15);
     }
 
     #[test]

@@ -3,7 +3,10 @@
 use rayon::prelude::*;
 
 use crate::cloud::{check_shape, flat_points};
-use crate::{OpcError, OrganizedPointCloud, is_valid};
+use crate::{OpcError, OrganizedPointCloud};
+
+/// Points per task of [`OrganizedPointCloudView::num_valid`].
+const COUNT_CHUNK: usize = 1 << 14;
 
 /// An organized point cloud borrowed from a caller's buffer: the same layout and rules as
 /// [`OrganizedPointCloud`] (`rows × cols` row-major `f64` xyz, NaN = invalid) without
@@ -91,7 +94,17 @@ impl<'a> OrganizedPointCloudView<'a> {
 
     /// Number of valid (finite) points.
     pub fn num_valid(&self) -> usize {
-        self.points.par_iter().filter(|p| is_valid(p)).count()
+        // Branch-free within a chunk (`&` instead of [`crate::is_valid`]'s `&&`), so that it
+        // vectorises.
+        self.points
+            .par_chunks(COUNT_CHUNK)
+            .map(|chunk| {
+                chunk
+                    .iter()
+                    .map(|p| usize::from(p[0].is_finite() & p[1].is_finite() & p[2].is_finite()))
+                    .sum::<usize>()
+            })
+            .sum()
     }
 
     /// Copies the points into an owned cloud.

@@ -138,6 +138,7 @@ impl DecimateConfig {
             rows: input.rows(),
             cols: input.cols(),
             members: decimated.members,
+            valid_pixels: decimated.valid_pixels,
         };
         Ok(Some((decimated.cloud, decimation)))
     }
@@ -176,9 +177,16 @@ pub struct Decimation {
     /// Which input pixels their block's point averaged, row-major
     /// ([`opc_mesh::Decimated::members`]): valid, and on the surface the point lies on.
     members: Vec<bool>,
+    /// The input's valid pixels.
+    valid_pixels: usize,
 }
 
 impl Decimation {
+    /// The input's valid (finite) pixels.
+    pub fn valid_pixels(&self) -> usize {
+        self.valid_pixels
+    }
+
     /// The input pixels the decimated points averaged (valid, on their block's surface).
     pub fn member_pixels(&self) -> usize {
         self.members.iter().filter(|&&m| m).count()

@@ -13,7 +13,8 @@ use polypost::{Plane, Polygon3, PostProcessor};
 use crate::config::{BilateralConfig, LaplacianConfig, LaplacianIterations, SmoothingBackend};
 use crate::reuse;
 use crate::{
-    Counts, ExtractedPolygon, Extraction, Polylidar, PolylidarError, PostprocessedPolygon, Timings,
+    Counts, Decimation, ExtractedPolygon, Extraction, Polylidar, PolylidarError,
+    PostprocessedPolygon, Timings,
 };
 
 impl Polylidar {
@@ -76,22 +77,21 @@ impl Polylidar {
                 Some(d) => timings.time("decimate", || d.apply(input))?,
                 None => None,
             };
-            let (decimated, decimation) = decimated.unzip();
-            let input_points = decimation.as_ref().map(|_| input.num_valid());
-            let (input, owned) = match &decimated {
-                Some(small) => (small.view(), Some(small)),
-                None => (input, owned),
-            };
+            let (mut decimated, decimation) = decimated.unzip();
             let mut reuse = reuse::lock(&self.reuse);
-            // The cloud the filters read (they take an owned cloud): the caller's, or a
-            // copy of a borrowed one; `None` without smoothing, meshing the input itself.
+            // The cloud the filters read (they take an owned cloud): the decimated one,
+            // which they then change in place, the caller's, or a copy of a borrowed one;
+            // `None` without smoothing, meshing the input itself.
             let mut cloud: Option<Cow<'_, OrganizedPointCloud>> = (config.laplacian.is_some()
                 || config.bilateral.is_some()
                 || config.fill_missing.is_some())
-            .then(|| match owned {
-                Some(c) => Cow::Borrowed(c),
-                None => Cow::Owned(input.to_cloud()),
+            .then(|| match (decimated.take(), owned) {
+                (Some(small), _) => Cow::Owned(small),
+                (None, Some(c)) => Cow::Borrowed(c),
+                (None, None) => Cow::Owned(input.to_cloud()),
             });
+            // What is meshed without filters.
+            let input = decimated.as_ref().map_or(input, OrganizedPointCloud::view);
             let mut filled = Vec::new();
             if let (Some(f), Some(c)) = (&config.fill_missing, &mut cloud) {
                 filled = timings.time("fill", || c.to_mut().fill_missing(f));
@@ -133,7 +133,9 @@ impl Polylidar {
                 .map_or_else(|| input.num_valid(), |c| c.num_valid())
                 - filled_count;
             let counts = Counts {
-                points: input_points.unwrap_or(grid_points),
+                points: decimation
+                    .as_ref()
+                    .map_or(grid_points, Decimation::valid_pixels),
                 decimated_points: if decimation.is_some() { grid_points } else { 0 },
                 laplacian_iterations,
                 filled: filled_count,

@@ -4,7 +4,7 @@
 use opc_mesh::OrganizedPointCloud;
 use rayon::prelude::*;
 
-use super::{Planes, exp_neg, min_rows_per_task, resize_all};
+use super::{Planes, exp_neg, fma, min_rows_per_task, resize_all};
 use crate::{BilateralOptions, grid::TRIANGLES_PER_CELL};
 
 /// xyz planes.
@@ -293,13 +293,13 @@ impl Filter {
         vec![0.0; (self.cells.half + 1) * per_row * self.cells.cols]
     }
 
-    /// The weight of a pair of triangles from their centroids' and normals' differences.
+    /// The weight of a pair of triangles from their centroids' and normals' differences,
+    /// in fused multiply-adds (see [`fma`]).
     #[inline(always)]
     fn weight(&self, [ex, ey, ez]: [f32; 3], [fx, fy, fz]: [f32; 3]) -> f32 {
-        exp_neg(
-            (ex * ex + ey * ey + ez * ez) * self.inv_var_length
-                + (fx * fx + fy * fy + fz * fz) * self.inv_var_angle,
-        )
+        let length = fma(ez, ez, fma(ey, ey, ex * ex));
+        let angle = fma(fz, fz, fma(fy, fy, fx * fx));
+        exp_neg(fma(angle, self.inv_var_angle, length * self.inv_var_length))
     }
 
     /// Where, in the ring, the weights between the type-`k1` triangles of cell row `r`
@@ -326,7 +326,10 @@ const BAND_ROWS: usize = 16;
 /// neighbours in raster order as the filter's definition does, so the results are the
 /// bits of the direct computation ([`direct_row`], which kernels too large for the
 /// ring use).
-#[multiversion::multiversion(targets("x86_64+avx512f+avx512vl+avx512bw+avx512dq", "x86_64+avx2"))]
+#[multiversion::multiversion(targets(
+    "x86_64+avx512f+avx512vl+avx512bw+avx512dq+fma",
+    "x86_64+avx2+fma"
+))]
 fn rows_of_band(
     filter: &Filter,
     first: usize,
@@ -458,9 +461,9 @@ fn output_row(
                 let w = span(ring, w + start, BLOCK);
                 let [qx, qy, qz] = normals[kn].each_ref().map(|n| span(n, q + start, BLOCK));
                 for i in 0..BLOCK {
-                    sums[0][i] += w[i] * qx[i];
-                    sums[1][i] += w[i] * qy[i];
-                    sums[2][i] += w[i] * qz[i];
+                    sums[0][i] = fma(w[i], qx[i], sums[0][i]);
+                    sums[1][i] = fma(w[i], qy[i], sums[1][i]);
+                    sums[2][i] = fma(w[i], qz[i], sums[2][i]);
                 }
             }
             ax[start..start + BLOCK].copy_from_slice(&sums[0]);
@@ -477,9 +480,9 @@ fn output_row(
             let w = span(ring, w + start, rest);
             let [qx, qy, qz] = normals[kn].each_ref().map(|n| span(n, q + start, rest));
             for i in 0..rest {
-                ax_r[i] += w[i] * qx[i];
-                ay_r[i] += w[i] * qy[i];
-                az_r[i] += w[i] * qz[i];
+                ax_r[i] = fma(w[i], qx[i], ax_r[i]);
+                ay_r[i] = fma(w[i], qy[i], ay_r[i]);
+                az_r[i] = fma(w[i], qz[i], az_r[i]);
             }
         }
         normalize([ax, ay, az], own, &normals[ko], &types[ko].mask);
@@ -520,9 +523,9 @@ fn direct_row(
                             [cx[i] - qcx[i], cy[i] - qcy[i], cz[i] - qcz[i]],
                             [nx[i] - qnx[i], ny[i] - qny[i], nz[i] - qnz[i]],
                         );
-                    ax[i] += w * qnx[i];
-                    ay[i] += w * qny[i];
-                    az[i] += w * qnz[i];
+                    ax[i] = fma(w, qnx[i], ax[i]);
+                    ay[i] = fma(w, qny[i], ay[i]);
+                    az[i] = fma(w, qnz[i], az[i]);
                 }
             }
         }

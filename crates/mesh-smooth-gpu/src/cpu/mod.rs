@@ -18,6 +18,15 @@ mod smoother;
 
 use rayon::prelude::*;
 
+/// `a · b + c` rounded once. The bilateral filter's kernels are compiled for CPUs with
+/// fused multiply-add, where this is one instruction that does the work of two; elsewhere
+/// it is a library call, slower but giving the same bits, so results never depend on the
+/// CPU.
+#[inline(always)]
+pub(crate) fn fma(a: f32, b: f32, c: f32) -> f32 {
+    a.mul_add(b, c)
+}
+
 /// Rows per rayon task at least; the Cpu backend uses one task for everything.
 pub(crate) fn min_rows_per_task(parallel: bool) -> usize {
     if parallel { 2 } else { usize::MAX }
