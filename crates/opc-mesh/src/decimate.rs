@@ -89,13 +89,23 @@ impl OrganizedPointCloudView<'_> {
                 let mut valid_pixels = 0;
                 for (c, o) in out.iter_mut().enumerate() {
                     let (c0, c1) = (c * factor, ((c + 1) * factor).min(in_cols));
+                    if factor == 2 && block_rows == 2 && c1 - c0 == 2 {
+                        let (point, inside, finite) =
+                            two_by_two(&input[c0..], in_cols, range_tolerance);
+                        *o = point;
+                        members[c0..c1].copy_from_slice(&inside[..2]);
+                        members[in_cols + c0..in_cols + c1].copy_from_slice(&inside[2..]);
+                        valid_pixels += finite;
+                        continue;
+                    }
                     block.fill(input, in_cols, block_rows, c0..c1);
                     valid_pixels += block.finite;
-                    let window = block.window(range_tolerance);
+                    let (low, high) = block.window(range_tolerance);
                     let (mut sum, mut count, mut k) = ([0.0; 3], 0.0, 0);
                     for i in 0..block_rows {
                         for member in &mut members[i * in_cols + c0..i * in_cols + c1] {
-                            let inside = window.contains(&block.range2[k]);
+                            let r2 = block.range2[k];
+                            let inside = (low <= r2) & (r2 <= high);
                             let p = block.points[k];
                             for (s, v) in sum.iter_mut().zip(p) {
                                 *s += if inside { v } else { 0.0 };
@@ -195,25 +205,19 @@ impl Block {
         self.finite = finite;
     }
 
-    /// The squared ranges within `tolerance` of the lower median range of the valid
-    /// points (empty without any): |r − m| ≤ t·m, squared on both sides of m. Infinite
-    /// ranges fall outside.
-    fn window(&mut self, tolerance: f64) -> std::ops::RangeInclusive<f64> {
+    /// The bounds of the squared ranges within `tolerance` of the lower median range of
+    /// the valid points (an empty window without any): |r − m| ≤ t·m, squared on both
+    /// sides of m. Infinite ranges fall outside.
+    fn window(&mut self, tolerance: f64) -> (f64, f64) {
         if self.valid == 0 {
-            return 1.0..=0.0;
+            return (1.0, 0.0);
         }
         // Invalid points order last, so the median of the valid ones has `middle` before
         // it.
         let middle = (self.valid - 1) / 2;
         let range2 = &self.range2[..self.len];
         let median2 = if let [a, b, c, d] = *range2 {
-            // A full 2 × 2 block: sorted by a network of minima and maxima.
-            let (a, b) = (a.min(b), a.max(b));
-            let (c, d) = (c.min(d), c.max(d));
-            let (a, c) = (a.min(c), a.max(c));
-            let (b, d) = (b.min(d), b.max(d));
-            let (b, c) = (b.min(c), b.max(c));
-            [a, b, c, d][middle]
+            sorted_four([a, b, c, d])[middle]
         } else if range2.len() <= 16 {
             // The point with `middle` points before it (ties by position): a handful of
             // comparisons without branches, where sorting would mispredict on every
@@ -240,10 +244,66 @@ impl Block {
                 .select_nth_unstable_by(middle, f64::total_cmp)
                 .1
         };
-        let low = (1.0 - tolerance).max(0.0);
-        let high = 1.0 + tolerance;
-        median2 * low * low..=median2 * high * high
+        window_around(median2, tolerance)
     }
+}
+
+/// A full 2 × 2 block (rows of `stride` points from `input[0]`), the common case,
+/// without [`Block`]'s copies and loops: its point, which of its pixels it averaged (in
+/// row-major order) and its valid pixels, computed as [`Block::fill`], [`Block::window`]
+/// and the mean do.
+#[inline]
+fn two_by_two(input: &[[f64; 3]], stride: usize, tolerance: f64) -> ([f64; 3], [bool; 4], usize) {
+    let pixels = [input[0], input[1], input[stride], input[stride + 1]];
+    let mut range2 = [0.0; 4];
+    let (mut valid, mut finite) = (0, 0);
+    for (r2, p) in range2.iter_mut().zip(&pixels) {
+        let is_finite = is_valid(p);
+        let square = self::range2(p);
+        let ok = is_finite && square.is_finite();
+        *r2 = if ok { square } else { f64::INFINITY };
+        valid += usize::from(ok);
+        finite += usize::from(is_finite);
+    }
+    let (low, high) = if valid == 0 {
+        (1.0, 0.0)
+    } else {
+        window_around(sorted_four(range2)[(valid - 1) / 2], tolerance)
+    };
+    let (mut sum, mut count) = ([0.0; 3], 0.0);
+    let mut members = [false; 4];
+    for ((member, r2), p) in members.iter_mut().zip(range2).zip(pixels) {
+        let inside = (low <= r2) & (r2 <= high);
+        for (s, v) in sum.iter_mut().zip(p) {
+            *s += if inside { v } else { 0.0 };
+        }
+        count += if inside { 1.0 } else { 0.0 };
+        *member = inside;
+    }
+    let inverse = 1.0 / count;
+    (sum.map(|s| s * inverse), members, finite)
+}
+
+/// Four squared ranges in ascending order, by a network of minima and maxima (they are
+/// never NaN, so plain comparisons, one instruction each, do).
+#[inline]
+fn sorted_four([a, b, c, d]: [f64; 4]) -> [f64; 4] {
+    let sort = |x: f64, y: f64| if x < y { (x, y) } else { (y, x) };
+    let (a, b) = sort(a, b);
+    let (c, d) = sort(c, d);
+    let (a, c) = sort(a, c);
+    let (b, d) = sort(b, d);
+    let (b, c) = sort(b, c);
+    [a, b, c, d]
+}
+
+/// The bounds of the squared ranges within `tolerance` of the range whose square is
+/// `median2`.
+#[inline]
+fn window_around(median2: f64, tolerance: f64) -> (f64, f64) {
+    let low = (1.0 - tolerance).max(0.0);
+    let high = 1.0 + tolerance;
+    (median2 * low * low, median2 * high * high)
 }
 
 /// The squared range (distance from the origin) of a point: blocks are ordered and
