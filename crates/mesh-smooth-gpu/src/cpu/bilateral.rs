@@ -4,28 +4,41 @@
 use opc_mesh::OrganizedPointCloud;
 use rayon::prelude::*;
 
-use super::{Planes, exp_neg, fma, min_rows_per_task, resize_all};
+use super::{PlaneSet, Planes, exp_neg, fma, min_rows_per_task};
 use crate::{BilateralOptions, grid::TRIANGLES_PER_CELL};
 
-/// xyz planes.
-type Xyz = [Vec<f32>; 3];
+/// x, y, z planes, indexed by cell `r · (cols − 1) + c`.
+type Xyz<'a> = [&'a [f32]; 3];
 
-/// Normals, centroids and masks of the triangles of one type `k` (see [`crate::grid`]),
-/// indexed by cell `r · (cols − 1) + c`. Missing triangles hold zeros and mask 0.0.
-#[derive(Default)]
-struct TypePlanes {
-    normal: Xyz,
-    centroid: Xyz,
-    mask: Vec<f32>,
+/// Planes per triangle type in [`BilateralWork::types`]: normal x, y, z, centroid x, y, z
+/// and the mask.
+const TYPE_PLANES: usize = 7;
+
+/// What the filter reads of the triangles of one type `k` (see [`crate::grid`]), indexed
+/// by cell: their centroids and masks (1.0 where the triangle exists). Missing
+/// triangles hold zeros and mask 0.0.
+#[derive(Clone, Copy)]
+struct TypeView<'a> {
+    centroid: Xyz<'a>,
+    mask: &'a [f32],
 }
 
-/// Reusable buffers of the bilateral filter.
+/// Reusable buffers of the bilateral filter, each plane at its own offset modulo 4 KiB
+/// (the kernels stream through up to 13 of them at once).
 #[derive(Default)]
 pub(crate) struct BilateralWork {
     planes: Planes,
-    types: [TypePlanes; 2],
-    current: [Xyz; 2],
-    next: [Xyz; 2],
+    /// Per triangle type `k`, its [`TYPE_PLANES`] planes from plane `7k` on.
+    types: PlaneSet<{ 2 * TYPE_PLANES }>,
+    /// The filtered normals (type 0 x, y, z, then type 1) of the odd passes and the even
+    /// ones; the first pass reads the normals in `types`.
+    odd: PlaneSet<6, { 2 * TYPE_PLANES }>,
+    even: PlaneSet<6, { 2 * TYPE_PLANES + 6 }>,
+}
+
+/// Six planes as the x, y, z planes of the two triangle types.
+fn by_type([a, b, c, d, e, f]: [&[f32]; 6]) -> [Xyz<'_>; 2] {
+    [[a, b, c], [d, e, f]]
 }
 
 /// Computes normals and centroids, filters the normals and writes them per slot into
@@ -41,36 +54,74 @@ pub(crate) fn bilateral_into(
     let BilateralWork {
         planes,
         types,
-        current,
-        next,
+        odd,
+        even,
     } = work;
     planes.fill(cloud.points(), cols, parallel);
-    for (k, planes_k) in types.iter_mut().enumerate() {
-        planes_k.compute(planes, rows, cols, k, parallel);
-    }
     let cells = Cells {
         rows: rows - 1,
         cols: cols - 1,
         half: (options.kernel / 2) as usize,
     };
     let num_cells = cells.rows * cells.cols;
-    for (cur, t) in current.iter_mut().zip(types.iter()) {
-        for (c, n) in cur.iter_mut().zip(&t.normal) {
-            c.clear();
-            c.extend_from_slice(n);
-        }
-    }
-    if cells.rows > 2 * cells.half && cells.cols > 2 * cells.half && options.iterations > 0 {
+    types.resize(num_cells);
+    let [
+        n0x,
+        n0y,
+        n0z,
+        c0x,
+        c0y,
+        c0z,
+        m0,
+        n1x,
+        n1y,
+        n1z,
+        c1x,
+        c1y,
+        c1z,
+        m1,
+    ] = types.planes_mut();
+    compute_type(
+        planes,
+        cols,
+        0,
+        parallel,
+        [n0x, n0y, n0z, c0x, c0y, c0z, m0],
+    );
+    compute_type(
+        planes,
+        cols,
+        1,
+        parallel,
+        [n1x, n1y, n1z, c1x, c1y, c1z, m1],
+    );
+    let type_planes = types.planes();
+    let type_view = |k: usize| {
+        let p = &type_planes[TYPE_PLANES * k..TYPE_PLANES * (k + 1)];
+        let normal = [p[0], p[1], p[2]];
+        let view = TypeView {
+            centroid: [p[3], p[4], p[5]],
+            mask: p[6],
+        };
+        (normal, view)
+    };
+    let [(normal0, view0), (normal1, view1)] = [type_view(0), type_view(1)];
+    let (unfiltered, views) = ([normal0, normal1], [view0, view1]);
+    let fits = cells.rows > 2 * cells.half && cells.cols > 2 * cells.half;
+    let iterations = if fits { options.iterations } else { 0 };
+    if iterations > 0 {
         let (inv_var_length, inv_var_angle) = options.inverse_variances();
         let filter = Filter::new(cells, inv_var_length, inv_var_angle);
-        for planes_k in next.iter_mut() {
-            resize_all(planes_k, num_cells);
-        }
-        let types = &*types;
+        odd.resize(num_cells);
+        even.resize(num_cells);
         let band = if parallel { BAND_ROWS } else { cells.rows } * cells.cols;
-        for _ in 0..options.iterations {
-            let [[n0x, n0y, n0z], [n1x, n1y, n1z]] = &mut *next;
-            let previous = &*current;
+        for pass in 0..iterations {
+            let (previous, next) = match pass {
+                0 => (unfiltered, odd.planes_mut()),
+                _ if pass % 2 == 1 => (by_type(odd.planes()), even.planes_mut()),
+                _ => (by_type(even.planes()), odd.planes_mut()),
+            };
+            let [n0x, n0y, n0z, n1x, n1y, n1z] = next;
             (
                 n0x.par_chunks_mut(band),
                 n0y.par_chunks_mut(band),
@@ -89,18 +140,21 @@ pub(crate) fn bilateral_into(
                         rows_of_band(
                             &filter,
                             first,
-                            previous,
-                            types,
+                            &previous,
+                            &views,
                             ring,
                             [[a, b2, c], [d, e, f]],
                         );
                     },
                 );
-            std::mem::swap(current, next);
         }
     }
+    let filtered = match iterations {
+        0 => unfiltered,
+        n if n % 2 == 1 => by_type(odd.planes()),
+        _ => by_type(even.planes()),
+    };
     out.resize(TRIANGLES_PER_CELL * num_cells, [0.0; 3]);
-    let (types, current) = (&*types, &*current);
     out.par_chunks_mut(TRIANGLES_PER_CELL * cells.cols)
         .enumerate()
         .with_min_len(min_rows_per_task(parallel))
@@ -108,8 +162,8 @@ pub(crate) fn bilateral_into(
             for (j, pair) in out.chunks_exact_mut(TRIANGLES_PER_CELL).enumerate() {
                 let cell = r * cells.cols + j;
                 for (k, slot) in pair.iter_mut().enumerate() {
-                    *slot = if types[k].mask[cell] > 0.0 {
-                        let [x, y, z] = &current[k];
+                    *slot = if views[k].mask[cell] > 0.0 {
+                        let [x, y, z] = filtered[k];
                         [x[cell], y[cell], z[cell]]
                     } else {
                         [f32::NAN; 3]
@@ -119,48 +173,47 @@ pub(crate) fn bilateral_into(
         });
 }
 
-impl TypePlanes {
-    /// Normals and centroids of the type-`k` triangles of every cell.
-    fn compute(&mut self, planes: &Planes, rows: usize, cols: usize, k: usize, parallel: bool) {
-        let (cr, cc) = (rows - 1, cols - 1);
-        resize_all(&mut self.normal, cr * cc);
-        resize_all(&mut self.centroid, cr * cc);
-        self.mask.resize(cr * cc, 0.0);
-        let [nx, ny, nz] = &mut self.normal;
-        let [cx, cy, cz] = &mut self.centroid;
-        (
-            nx.par_chunks_mut(cc),
-            ny.par_chunks_mut(cc),
-            nz.par_chunks_mut(cc),
-            cx.par_chunks_mut(cc),
-            cy.par_chunks_mut(cc),
-            cz.par_chunks_mut(cc),
-            self.mask.par_chunks_mut(cc),
-        )
-            .into_par_iter()
-            .enumerate()
-            .with_min_len(min_rows_per_task(parallel))
-            .for_each(|(r, (nx, ny, nz, cx, cy, cz, m))| {
-                let top = r * cols;
-                let bottom = top + cols;
-                // p1 = (r, c), p2 = (r, c + 1), p3 = (r + 1, c + 1), p4 = (r + 1, c);
-                // type 0 is [p3, p2, p1], type 1 is [p1, p4, p3].
-                let corners = if k == 0 {
-                    [bottom + 1, top + 1, top]
-                } else {
-                    [top, bottom, bottom + 1]
-                };
-                let corner = |start| {
-                    [&planes.x, &planes.y, &planes.z, &planes.m].map(|p| span(p, start, cc))
-                };
-                type_row(
-                    corners.map(corner),
-                    [&mut *nx, &mut *ny, &mut *nz],
-                    [&mut *cx, &mut *cy, &mut *cz],
-                    m,
-                );
-            });
-    }
+/// Normals, centroids and masks of the type-`k` triangles of every cell of a cloud with
+/// `cols` columns whose points are `planes`, into `[nx, ny, nz, cx, cy, cz, mask]`.
+fn compute_type(
+    planes: &Planes,
+    cols: usize,
+    k: usize,
+    parallel: bool,
+    [nx, ny, nz, cx, cy, cz, mask]: [&mut [f32]; TYPE_PLANES],
+) {
+    let cc = cols - 1;
+    (
+        nx.par_chunks_mut(cc),
+        ny.par_chunks_mut(cc),
+        nz.par_chunks_mut(cc),
+        cx.par_chunks_mut(cc),
+        cy.par_chunks_mut(cc),
+        cz.par_chunks_mut(cc),
+        mask.par_chunks_mut(cc),
+    )
+        .into_par_iter()
+        .enumerate()
+        .with_min_len(min_rows_per_task(parallel))
+        .for_each(|(r, (nx, ny, nz, cx, cy, cz, m))| {
+            let top = r * cols;
+            let bottom = top + cols;
+            // p1 = (r, c), p2 = (r, c + 1), p3 = (r + 1, c + 1), p4 = (r + 1, c);
+            // type 0 is [p3, p2, p1], type 1 is [p1, p4, p3].
+            let corners = if k == 0 {
+                [bottom + 1, top + 1, top]
+            } else {
+                [top, bottom, bottom + 1]
+            };
+            let corner =
+                |start| [&planes.x, &planes.y, &planes.z, &planes.m].map(|p| span(p, start, cc));
+            type_row(
+                corners.map(corner),
+                [&mut *nx, &mut *ny, &mut *nz],
+                [&mut *cx, &mut *cy, &mut *cz],
+                m,
+            );
+        });
 }
 
 /// One cell row of one triangle type: from the x, y, z, mask spans of its corners
@@ -333,8 +386,8 @@ const BAND_ROWS: usize = 16;
 fn rows_of_band(
     filter: &Filter,
     first: usize,
-    normals: &[Xyz; 2],
-    types: &[TypePlanes; 2],
+    normals: &[Xyz<'_>; 2],
+    types: &[TypeView<'_>; 2],
     ring: &mut [f32],
     mut out: [[&mut [f32]; 3]; 2],
 ) {
@@ -371,8 +424,8 @@ fn rows_of_band(
 fn pair_weights(
     filter: &Filter,
     r: usize,
-    normals: &[Xyz; 2],
-    types: &[TypePlanes; 2],
+    normals: &[Xyz<'_>; 2],
+    types: &[TypeView<'_>; 2],
     ring: &mut [f32],
 ) {
     let Cells { rows, cols, .. } = filter.cells;
@@ -416,7 +469,7 @@ const MAX_SHARED_TERMS: usize = 96;
 /// Writes cell row `r` of the next pass (both triangle types) into `out`; the ring
 /// holds the pair weights of rows `r − half ..= r`.
 ///
-/// A missing triangle's normal is zero (as [`TypePlanes::compute`] makes it and
+/// A missing triangle's normal is zero (as [`compute_type`] makes it and
 /// [`normalize`] keeps it), so its terms add exact zeros without a mask; the terms are
 /// added in the order of [`direct_row`]. The sums of [`BLOCK`] cells at a time stay in
 /// registers while every term is added to them.
@@ -424,8 +477,8 @@ const MAX_SHARED_TERMS: usize = 96;
 fn output_row(
     filter: &Filter,
     r: usize,
-    normals: &[Xyz; 2],
-    types: &[TypePlanes; 2],
+    normals: &[Xyz<'_>; 2],
+    types: &[TypeView<'_>; 2],
     ring: &[f32],
     mut out: [[&mut [f32]; 3]; 2],
 ) {
@@ -485,7 +538,7 @@ fn output_row(
                 az_r[i] = fma(w[i], qz[i], az_r[i]);
             }
         }
-        normalize([ax, ay, az], own, &normals[ko], &types[ko].mask);
+        normalize([ax, ay, az], own, &normals[ko], types[ko].mask);
     }
 }
 
@@ -495,8 +548,8 @@ fn output_row(
 fn direct_row(
     filter: &Filter,
     r: usize,
-    normals: &[Xyz; 2],
-    types: &[TypePlanes; 2],
+    normals: &[Xyz<'_>; 2],
+    types: &[TypeView<'_>; 2],
     mut out: [[&mut [f32]; 3]; 2],
 ) {
     let Some(own) = copy_borders(filter.cells, r, normals, &mut out) else {
@@ -529,7 +582,7 @@ fn direct_row(
                 }
             }
         }
-        normalize([ax, ay, az], own, &normals[ko], &types[ko].mask);
+        normalize([ax, ay, az], own, &normals[ko], types[ko].mask);
     }
 }
 
@@ -539,7 +592,7 @@ fn direct_row(
 fn copy_borders(
     cells: Cells,
     r: usize,
-    normals: &[Xyz; 2],
+    normals: &[Xyz<'_>; 2],
     out: &mut [[&mut [f32]; 3]; 2],
 ) -> Option<usize> {
     let Cells { rows, cols, half } = cells;
@@ -564,7 +617,7 @@ fn copy_borders(
 /// its largest component first, so that the squares of small sums (weights near
 /// [`super::fast_exp::EXP_NEG_CUTOFF`]) stay normal `f32` numbers, as on the GPU.
 #[inline(always)]
-fn normalize(a: [&mut [f32]; 3], own: usize, normals: &Xyz, mask: &[f32]) {
+fn normalize(a: [&mut [f32]; 3], own: usize, normals: &Xyz<'_>, mask: &[f32]) {
     let [ax, ay, az] = a;
     let len = ax.len();
     let [nx, ny, nz] = normals.each_ref().map(|n| &n[own..own + len]);
@@ -597,8 +650,9 @@ mod tests {
 
     use super::*;
 
-    /// Random normals, centroids and masks on a grid of cells.
-    fn random_planes(cells: Cells, seed: u64) -> ([Xyz; 2], [TypePlanes; 2]) {
+    /// Random normals, centroids and masks on a grid of cells: per type, its normal and
+    /// centroid planes and its mask.
+    fn random_planes(cells: Cells, seed: u64) -> [([Vec<f32>; 3], [Vec<f32>; 3], Vec<f32>); 2] {
         let n = cells.rows * cells.cols;
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
         let mut plane = |scale: f32| -> Vec<f32> {
@@ -606,22 +660,19 @@ mod tests {
                 .map(|_| scale * (rng.random::<f32>() - 0.5))
                 .collect()
         };
-        let types = [0, 1].map(|k| TypePlanes {
-            normal: [vec![0.0; n], vec![0.0; n], vec![0.0; n]],
-            centroid: [plane(0.4), plane(0.4), plane(0.4)],
-            mask: (0..n).map(|i| f32::from((i + k) % 7 != 0)).collect(),
-        });
-        // Missing triangles have zero normals, as `TypePlanes::compute` makes them.
-        let normals = [0, 1].map(|k| {
-            [(); 3].map(|()| {
+        [0, 1].map(|k| {
+            let mask: Vec<f32> = (0..n).map(|i| f32::from((i + k) % 7 != 0)).collect();
+            let centroid = [plane(0.4), plane(0.4), plane(0.4)];
+            // Missing triangles have zero normals, as `compute_type` makes them.
+            let normal = [(); 3].map(|()| {
                 let mut p = plane(1.0);
-                for (v, m) in p.iter_mut().zip(&types[k].mask) {
+                for (v, m) in p.iter_mut().zip(&mask) {
                     *v *= m;
                 }
                 p
-            })
-        });
-        (normals, types)
+            });
+            (normal, centroid, mask)
+        })
     }
 
     /// Bands of every start and size, with the weights shared between rows and types,
@@ -639,7 +690,14 @@ mod tests {
             (8, 70, 3),
         ] {
             let cells = Cells { rows, cols, half };
-            let (normals, types) = random_planes(cells, (rows * cols) as u64);
+            let data = random_planes(cells, (rows * cols) as u64);
+            let normals = data
+                .each_ref()
+                .map(|(n, _, _)| n.each_ref().map(Vec::as_slice));
+            let types = data.each_ref().map(|(_, c, m)| TypeView {
+                centroid: c.each_ref().map(Vec::as_slice),
+                mask: m,
+            });
             let filter = Filter::new(cells, 30.0, 4.0);
             let empty = |n: usize| [0, 1].map(|_| [0, 1, 2].map(|_| vec![0.0f32; n]));
             let mut expected = empty(rows * cols);

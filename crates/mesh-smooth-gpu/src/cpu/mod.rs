@@ -95,14 +95,17 @@ fn fill_row(row: &[[f64; 3]], [x, y, z, m]: [&mut [f32]; 4]) {
 }
 
 /// `N` planes of equal length in one allocation, laid out so that their starts differ
-/// modulo 4 KiB: plane `k` starts `k` · 256 bytes past a page multiple of the first.
+/// modulo 4 KiB: plane `k` starts `(FIRST + k)` · 256 bytes past a page multiple of the
+/// allocation's start.
 ///
 /// A row kernel streams through all its planes at the same index at once. Planes
 /// allocated separately often start at the same offset modulo a large power of two
 /// (allocators hand out big blocks page- or segment-aligned), so those streams compete
 /// for the same cache sets (the crate README gives what that cost the Laplacian filter).
+/// Sets that a kernel reads together take different `FIRST` slots, so that their planes
+/// do not meet either when their allocations are aligned alike.
 #[derive(Debug, Default)]
-pub(crate) struct PlaneSet<const N: usize> {
+pub(crate) struct PlaneSet<const N: usize, const FIRST: usize = 0> {
     data: Vec<f32>,
     len: usize,
 }
@@ -110,37 +113,45 @@ pub(crate) struct PlaneSet<const N: usize> {
 /// The stagger between consecutive planes of a [`PlaneSet`], in `f32`s (256 bytes).
 const STAGGER: usize = 64;
 
-impl<const N: usize> PlaneSet<N> {
+impl<const N: usize, const FIRST: usize> PlaneSet<N, FIRST> {
     /// Distance between plane starts: `len` rounded up to a 4 KiB multiple, plus the
     /// stagger.
     fn stride(len: usize) -> usize {
         len.next_multiple_of(1024) + STAGGER
     }
 
+    /// Where the first plane starts.
+    const LEAD: usize = FIRST * STAGGER;
+
     /// Makes every plane `len` long, keeping the allocation when it is large enough
     /// (contents are overwritten by the caller).
     pub fn resize(&mut self, len: usize) {
-        self.data.resize(N * Self::stride(len), 0.0);
+        self.data.resize(Self::LEAD + N * Self::stride(len), 0.0);
         self.len = len;
     }
 
     /// The planes, each `len` long.
     pub fn planes_mut(&mut self) -> [&mut [f32]; N] {
-        // `resize` allocated N strides (none before the first call).
-        let (stride, len) = (self.data.len() / N, self.len);
-        let mut rest: &mut [f32] = &mut self.data;
+        // `resize` allocated the lead and N strides (nothing before the first call).
+        let (stride, len) = (self.stride_now(), self.len);
+        let mut rest: &mut [f32] = self.data.get_mut(Self::LEAD..).unwrap_or_default();
         std::array::from_fn(|_| {
             let (plane, tail) = std::mem::take(&mut rest).split_at_mut(stride);
             rest = tail;
             &mut plane[..len]
         })
     }
-}
 
-/// Resizes every plane of `planes` to `n` (contents are overwritten by the caller).
-pub(crate) fn resize_all<const N: usize>(planes: &mut [Vec<f32>; N], n: usize) {
-    for plane in planes {
-        plane.resize(n, 0.0);
+    /// The planes, each `len` long.
+    pub fn planes(&self) -> [&[f32]; N] {
+        let (stride, len) = (self.stride_now(), self.len);
+        let data = self.data.get(Self::LEAD..).unwrap_or_default();
+        std::array::from_fn(|k| &data[k * stride..][..len])
+    }
+
+    /// The stride of the current allocation (0 before the first `resize`).
+    fn stride_now(&self) -> usize {
+        self.data.len().saturating_sub(Self::LEAD) / N
     }
 }
 
@@ -176,6 +187,26 @@ mod tests {
             offsets.sort_unstable();
             offsets.dedup();
             assert_eq!(offsets.len(), 8, "len {len}: starts {starts:x?}");
+        }
+    }
+
+    #[test]
+    fn plane_sets_with_a_first_slot_start_past_it() {
+        let mut set = PlaneSet::<3, 5>::default();
+        assert!(set.planes().iter().all(|p| p.is_empty()));
+        for len in [1000, 5000, 10] {
+            set.resize(len);
+            for (k, plane) in set.planes_mut().into_iter().enumerate() {
+                plane.fill(k as f32 + 1.0);
+            }
+            let planes = set.planes();
+            let base = set.data.as_ptr() as usize;
+            for (k, plane) in planes.iter().enumerate() {
+                assert_eq!(plane.len(), len);
+                assert!(plane.iter().all(|&v| v == k as f32 + 1.0));
+                let offset = (plane.as_ptr() as usize - base) % 4096;
+                assert_eq!(offset, (5 + k) * 256, "len {len}, plane {k}");
+            }
         }
     }
 }
