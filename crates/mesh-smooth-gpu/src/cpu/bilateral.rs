@@ -650,9 +650,11 @@ mod tests {
 
     use super::*;
 
-    /// Random normals, centroids and masks on a grid of cells: per type, its normal and
-    /// centroid planes and its mask.
-    fn random_planes(cells: Cells, seed: u64) -> [([Vec<f32>; 3], [Vec<f32>; 3], Vec<f32>); 2] {
+    /// One triangle type's normal and centroid planes and its mask.
+    type RandomType = ([Vec<f32>; 3], [Vec<f32>; 3], Vec<f32>);
+
+    /// Random normals, centroids and masks on a grid of cells, per triangle type.
+    fn random_planes(cells: Cells, seed: u64) -> [RandomType; 2] {
         let n = cells.rows * cells.cols;
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
         let mut plane = |scale: f32| -> Vec<f32> {
