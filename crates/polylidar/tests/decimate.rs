@@ -43,6 +43,7 @@ fn labels_are_one_per_input_pixel_and_one_per_block() {
     assert_eq!(extraction.mesh.num_vertices(), 240 * 320);
     let counts = &extraction.diagnostics.counts;
     assert_eq!(counts.points, cloud.num_valid());
+    assert_eq!(d.valid_pixels(), cloud.num_valid());
     let grid_valid = extraction
         .mesh
         .vertices()
