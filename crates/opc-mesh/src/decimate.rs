@@ -104,14 +104,12 @@ impl OrganizedPointCloudView<'_> {
                     let (mut sum, mut count, mut k) = ([0.0; 3], 0.0, 0);
                     for i in 0..block_rows {
                         for member in &mut members[i * in_cols + c0..i * in_cols + c1] {
-                            let r2 = block.range2[k];
-                            let inside = (low <= r2) & (r2 <= high);
-                            let p = block.points[k];
-                            for (s, v) in sum.iter_mut().zip(p) {
-                                *s += if inside { v } else { 0.0 };
-                            }
-                            count += if inside { 1.0 } else { 0.0 };
-                            *member = inside;
+                            *member = add_if_inside(
+                                (&mut sum, &mut count),
+                                block.points[k],
+                                block.range2[k],
+                                (low, high),
+                            );
                             k += 1;
                         }
                     }
@@ -188,14 +186,10 @@ impl Block {
         let (mut n, mut valid, mut finite) = (0, 0, 0);
         for i in 0..rows {
             for p in &input[i * stride + cols.start..i * stride + cols.end] {
-                // A point so far out that its squared range overflows counts as invalid:
-                // it would otherwise order with the invalid ones.
-                let r2 = range2(p);
-                let is_finite = is_valid(p);
-                let ok = is_finite && r2.is_finite();
+                let (r2, is_finite) = ordering_range2(p);
                 self.points[n] = *p;
-                self.range2[n] = if ok { r2 } else { f64::INFINITY };
-                valid += usize::from(ok);
+                self.range2[n] = r2;
+                valid += usize::from(r2.is_finite());
                 finite += usize::from(is_finite);
                 n += 1;
             }
@@ -210,7 +204,7 @@ impl Block {
     /// sides of m. Infinite ranges fall outside.
     fn window(&mut self, tolerance: f64) -> (f64, f64) {
         if self.valid == 0 {
-            return (1.0, 0.0);
+            return EMPTY_WINDOW;
         }
         // Invalid points order last, so the median of the valid ones has `middle` before
         // it.
@@ -258,30 +252,60 @@ fn two_by_two(input: &[[f64; 3]], stride: usize, tolerance: f64) -> ([f64; 3], [
     let mut range2 = [0.0; 4];
     let (mut valid, mut finite) = (0, 0);
     for (r2, p) in range2.iter_mut().zip(&pixels) {
-        let is_finite = is_valid(p);
-        let square = self::range2(p);
-        let ok = is_finite && square.is_finite();
-        *r2 = if ok { square } else { f64::INFINITY };
-        valid += usize::from(ok);
+        let is_finite;
+        (*r2, is_finite) = ordering_range2(p);
+        valid += usize::from(r2.is_finite());
         finite += usize::from(is_finite);
     }
     let (low, high) = if valid == 0 {
-        (1.0, 0.0)
+        EMPTY_WINDOW
     } else {
         window_around(sorted_four(range2)[(valid - 1) / 2], tolerance)
     };
     let (mut sum, mut count) = ([0.0; 3], 0.0);
     let mut members = [false; 4];
     for ((member, r2), p) in members.iter_mut().zip(range2).zip(pixels) {
-        let inside = (low <= r2) & (r2 <= high);
-        for (s, v) in sum.iter_mut().zip(p) {
-            *s += if inside { v } else { 0.0 };
-        }
-        count += if inside { 1.0 } else { 0.0 };
-        *member = inside;
+        *member = add_if_inside((&mut sum, &mut count), p, r2, (low, high));
     }
     let inverse = 1.0 / count;
     (sum.map(|s| s * inverse), members, finite)
+}
+
+/// The window that holds no squared range.
+const EMPTY_WINDOW: (f64, f64) = (1.0, 0.0);
+
+/// A pixel's squared range as blocks order it (infinite unless the pixel is valid and
+/// its square finite: a point so far out that its square overflows would otherwise
+/// order with the invalid ones), and whether it is valid.
+#[inline]
+fn ordering_range2(p: &[f64; 3]) -> (f64, bool) {
+    let is_finite = is_valid(p);
+    let r2 = range2(p);
+    (
+        if is_finite && r2.is_finite() {
+            r2
+        } else {
+            f64::INFINITY
+        },
+        is_finite,
+    )
+}
+
+/// Adds point `p` to a block's running sum and count when its squared range `r2` lies in
+/// the window `(low, high)`; whether it did (branch-free).
+#[inline]
+fn add_if_inside(
+    (sum, count): (&mut [f64; 3], &mut f64),
+    p: [f64; 3],
+    r2: f64,
+    (low, high): (f64, f64),
+) -> bool {
+    let inside = (low <= r2) & (r2 <= high);
+    for (s, v) in sum.iter_mut().zip(p) {
+        *s += if inside { v } else { 0.0 };
+    }
+    *count += if inside { 1.0 } else { 0.0 };
+    inside
 }
 
 /// Four squared ranges in ascending order, by a network of minima and maxima (they are

@@ -65,36 +65,11 @@ pub(crate) fn bilateral_into(
     };
     let num_cells = cells.rows * cells.cols;
     types.resize(num_cells);
-    let [
-        n0x,
-        n0y,
-        n0z,
-        c0x,
-        c0y,
-        c0z,
-        m0,
-        n1x,
-        n1y,
-        n1z,
-        c1x,
-        c1y,
-        c1z,
-        m1,
-    ] = types.planes_mut();
-    compute_type(
-        planes,
-        cols,
-        0,
-        parallel,
-        [n0x, n0y, n0z, c0x, c0y, c0z, m0],
-    );
-    compute_type(
-        planes,
-        cols,
-        1,
-        parallel,
-        [n1x, n1y, n1z, c1x, c1y, c1z, m1],
-    );
+    let mut all = types.planes_mut();
+    let (per_type, _) = all.as_chunks_mut::<TYPE_PLANES>();
+    for (k, type_planes) in per_type.iter_mut().enumerate() {
+        compute_type(planes, cols, k, parallel, type_planes);
+    }
     let type_planes = types.planes();
     let type_view = |k: usize| {
         let p = &type_planes[TYPE_PLANES * k..TYPE_PLANES * (k + 1)];
@@ -180,7 +155,7 @@ fn compute_type(
     cols: usize,
     k: usize,
     parallel: bool,
-    [nx, ny, nz, cx, cy, cz, mask]: [&mut [f32]; TYPE_PLANES],
+    [nx, ny, nz, cx, cy, cz, mask]: &mut [&mut [f32]; TYPE_PLANES],
 ) {
     let cc = cols - 1;
     (
