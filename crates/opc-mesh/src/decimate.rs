@@ -1,11 +1,11 @@
 //! Block decimation of an organized cloud, as a depth camera's decimation filter does.
 //!
-//! A full-resolution depth frame has four times the pixels of the resolution Polylidar3D's
-//! RealSense parameters were chosen for (the D435i's 848 × 480 after the SDK's decimation
-//! by 2), so every stage costs four times as much and a plane's noise, seen over the
-//! same pixel neighbourhoods, scatters its triangle normals twice as widely. Merging each
-//! `f × f` block of pixels into one point gives the coarser grid and averages the noise
-//! away.
+//! A full-resolution depth frame has many times the pixels of the resolution
+//! Polylidar3D's RealSense parameters were chosen for (the D435i sampled at 424 × 240 and
+//! decimated by 2 by its SDK), so every stage costs that much more and a plane's noise,
+//! seen over the same pixel neighbourhoods, scatters its triangle normals more widely.
+//! Merging each `f × f` block of pixels into one point gives the coarser grid and
+//! averages the noise away.
 //!
 //! A block's point is a robust mean: of its valid pixels, those whose range (distance
 //! from the origin, the sensor) lies within a share of the median pixel's range are

@@ -14,9 +14,12 @@ use crate::config::{deserialize_count_or_auto, serialize_count_or_auto};
 /// [`OrganizedPointCloud::decimate`](opc_mesh::OrganizedPointCloud::decimate).
 ///
 /// Polylidar3D's RealSense parameters (the `rgbd` preset) were chosen for the D435i's
-/// 848 × 480 depth after the SDK's decimation by 2: at a camera's full resolution the
-/// same pixel neighbourhoods see twice the noise against the point spacing and every
-/// stage costs four times as much. `"auto"` decimates to that working width.
+/// depth sampled at 424 × 240 and decimated by 2 by the SDK (212 × 120): at a camera's
+/// full resolution the same pixel neighbourhoods see more noise against the point
+/// spacing and every stage costs four to nine times as much. `"auto"` decimates to about
+/// 424 columns: on the synthetic RGB-D suite (Table 10b of `cargo xtask bench`) that
+/// found more planes than the full resolution, and decimating to the paper's 212
+/// instead found fewer at 640 × 480 and 848 × 480 and labelled far fewer points right.
 ///
 /// ```
 /// use polylidar::{DecimateConfig, DecimateFactor};
@@ -72,6 +75,25 @@ impl DecimateConfig {
     #[must_use]
     pub fn with_factor(mut self, factor: DecimateFactor) -> Self {
         self.factor = factor;
+        self
+    }
+
+    /// Sets [`Self::target_columns`] (with `"auto"`: the width to decimate to). The
+    /// paper's D435i frames, sampled at 424 × 240, were decimated by 2 to 212 × 120 by
+    /// the RealSense SDK before Polylidar3D saw them; `with_target_columns(212)` works on
+    /// that grid (faster, and fewer small planes found: Tables 8 and 10b of
+    /// `cargo xtask bench`).
+    ///
+    /// ```
+    /// use polylidar::DecimateConfig;
+    /// let paper = DecimateConfig::default().with_target_columns(212);
+    /// assert_eq!(paper.factor_for(240, 424), 2);
+    /// assert_eq!(paper.factor_for(480, 640), 3);
+    /// assert_eq!(paper.factor_for(480, 848), 4);
+    /// ```
+    #[must_use]
+    pub fn with_target_columns(mut self, target_columns: u32) -> Self {
+        self.target_columns = target_columns;
         self
     }
 

@@ -65,9 +65,9 @@ pub struct PostDiagnostics {
     /// Polygons returned.
     pub output_polygons: u32,
     /// Inputs that were invalid (self-intersecting, touching or crossing rings, holes
-    /// outside the shell, …) and were repaired before processing.
+    /// outside the shell, …) and, still so after simplification, were repaired.
     pub repaired_inputs: u32,
-    /// Times simplification made a polygon invalid and it was repaired.
+    /// Valid inputs that simplification made invalid, repaired.
     pub repaired_after_simplify: u32,
     /// Inputs of which nothing was left after simplification and buffering (e.g. eroded
     /// away by β_neg).

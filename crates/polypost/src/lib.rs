@@ -5,15 +5,15 @@
 //! the segment's plane such a polygon can self-intersect, and it is usually jagged. This
 //! crate takes it into the plane's 2D frame ([`PlaneFrame`]) and, in the paper's order,
 //!
-//! 1. simplifies it with tolerance α (Ramer–Douglas–Peucker; a result made invalid is
-//!    repaired),
+//! 1. simplifies it with tolerance α (Ramer–Douglas–Peucker, on the rings as they are)
+//!    and repairs the result if it is not valid,
 //! 2. buffers it outward by β_pos and
 //! 3. inward by β_neg (mitre joins by default, as the original's Shapely buffers),
 //! 4. drops polygons with area below γ and
 //! 5. holes with area below δ,
 //!
-//! then lifts the result back onto the plane. Inputs that are invalid are repaired first
-//! (non-zero winding region of the shell minus the union of the holes); every polygon
+//! then lifts the result back onto the plane. The repair keeps the non-zero winding
+//! region of the shell minus the union of the holes (without α, of the input); every polygon
 //! returned passes `geo::Validation`, and inputs that cannot be repaired are reported in
 //! [`PostDiagnostics`] instead of returned. Buffering may split a polygon or merge holes, so
 //! each input gives zero or more outputs, each tagged with its input's index.

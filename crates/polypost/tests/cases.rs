@@ -211,6 +211,65 @@ fn hole_outside_shell_and_overlapping_holes_are_repaired() {
 }
 
 #[test]
+fn jagged_bow_tie_is_simplified_then_repaired() {
+    // A bow tie whose four edges zig-zag by ±1 cm: simplified with α = 5 cm first, the
+    // crossing shell is repaired into two triangles of three corners each.
+    let corners: [(f64, f64); 4] = [(0.0, 0.0), (10.0, 10.0), (10.0, 0.0), (0.0, 10.0)];
+    let mut shell = Vec::new();
+    for (k, &(x0, y0)) in corners.iter().enumerate() {
+        let (x1, y1) = corners[(k + 1) % 4];
+        let (len, steps) = ((x1 - x0).hypot(y1 - y0), 40);
+        for i in 0..steps {
+            let t = f64::from(i) / f64::from(steps);
+            let off = if i % 2 == 1 { 0.01 } else { 0.0 };
+            // The unit normal of the edge times the tooth.
+            let (nx, ny) = (-(y1 - y0) / len, (x1 - x0) / len);
+            shell.push((x0 + t * (x1 - x0) + off * nx, y0 + t * (y1 - y0) + off * ny));
+        }
+    }
+    let out =
+        processor(PostprocessConfig::default().with_alpha(0.05)).process_2d(&poly(&shell, &[]));
+    assert_eq!(out.diagnostics.repaired_inputs, 1);
+    assert_eq!(out.diagnostics.repaired_after_simplify, 0);
+    assert_eq!(out.polygons.len(), 2);
+    for p in &out.polygons {
+        assert!(p.polygon.is_valid());
+        assert_eq!(p.polygon.exterior().0.len(), 4, "{:?}", p.polygon);
+        assert!((p.polygon.unsigned_area() - 25.0).abs() < 0.2);
+    }
+}
+
+#[test]
+fn valid_input_made_invalid_by_simplification_is_repaired() {
+    // A shallow outward bump of the bottom edge holds a hole that dips below y = 0;
+    // simplified with α = 0.1 the bump goes and the hole crosses the shell.
+    let shell = [
+        (0.0, 0.0),
+        (4.0, 0.0),
+        (5.0, -0.05),
+        (6.0, 0.0),
+        (10.0, 0.0),
+        (10.0, 10.0),
+        (0.0, 10.0),
+    ];
+    let hole = vec![(4.9, -0.02), (4.9, 0.2), (5.1, 0.2), (5.1, -0.02)];
+    let p = poly(&shell, &[hole]);
+    assert!(p.is_valid());
+    let out = processor(PostprocessConfig::default().with_alpha(0.1)).process_2d(&p);
+    assert_eq!(out.diagnostics.repaired_inputs, 0);
+    assert_eq!(out.diagnostics.repaired_after_simplify, 1);
+    assert_eq!(out.polygons.len(), 1);
+    let q = &out.polygons[0].polygon;
+    assert!(q.is_valid());
+    // The 10 × 10 square less the hole's part above y = 0 (0.2 × 0.2), now a notch.
+    assert!(
+        (q.unsigned_area() - 99.96).abs() < 1e-6,
+        "{}",
+        q.unsigned_area()
+    );
+}
+
+#[test]
 fn simplification_stays_within_alpha() {
     // A jagged circle: radius 3 m with ±1 cm teeth.
     let n = 400;
