@@ -18,9 +18,9 @@ const CHUNK: usize = 8192;
 /// What group assignment dropped and kept.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct GroupCounts {
-    /// Triangles whose longest edge exceeds `lmax`.
+    /// Triangles near enough to a dominant normal whose longest edge exceeds `lmax`.
     pub dropped_lmax: usize,
-    /// Triangles too far from every dominant normal.
+    /// Triangles too far from every dominant normal (whatever their edges).
     pub dropped_normal: usize,
     /// Triangles assigned to a group.
     pub grouped: usize,
@@ -213,9 +213,11 @@ fn chunk(
 }
 
 impl Kernel<'_> {
-    /// Assigns `N` consecutive triangles, the first being `first`: their edge lengths,
-    /// centroids and volume terms lane by lane (vectorised), then the nearest dominant
-    /// normal, most often settled by one dot product with the last group's.
+    /// Assigns `N` consecutive triangles, the first being `first`: the nearest dominant
+    /// normal, most often settled by one dot product with the last group's (vectorised
+    /// over the block); then, only for the triangles near enough to it (a third of a
+    /// depth frame's with the `rgbd` preset), their corners, edge lengths, centroid and
+    /// volume term.
     #[inline(always)]
     fn block<const N: usize>(
         &self,
@@ -225,31 +227,6 @@ impl Kernel<'_> {
         slots: &mut [Slot; N],
         out: &mut ChunkOut<'_>,
     ) {
-        // corner[k][axis][lane]
-        let mut corner = [[[0.0f64; N]; 3]; 3];
-        for (l, tri) in tris.iter().enumerate() {
-            for (k, &i) in tri.iter().enumerate() {
-                let p = self.vertices[i as usize];
-                for axis in 0..3 {
-                    corner[k][axis][l] = p[axis];
-                }
-            }
-        }
-        let [a, b, c] = corner;
-        let r = self.reference;
-        let (mut far, mut volume, mut centroid) = ([false; N], [0.0f64; N], [[0.0f64; N]; 3]);
-        for l in 0..N {
-            let u = [b[0][l] - a[0][l], b[1][l] - a[1][l], b[2][l] - a[2][l]];
-            let v = [c[0][l] - a[0][l], c[1][l] - a[1][l], c[2][l] - a[2][l]];
-            let w = [c[0][l] - b[0][l], c[1][l] - b[1][l], c[2][l] - b[2][l]];
-            far[l] = (dot(u, u) > self.lmax2) | (dot(v, v) > self.lmax2) | (dot(w, w) > self.lmax2);
-            let corner_a = [a[0][l], a[1][l], a[2][l]];
-            volume[l] = dot(cross(u, v), sub(corner_a, r));
-            let mid = add(corner_a, scale(add(u, v), 1.0 / 3.0));
-            for axis in 0..3 {
-                centroid[axis][l] = mid[axis];
-            }
-        }
         let candidate = out.last;
         let (d, limit) = self
             .lookup
@@ -262,11 +239,6 @@ impl Kernel<'_> {
             *dot = n[0] * d[0] + n[1] * d[1] + n[2] * d[2];
         }
         for l in 0..N {
-            if far[l] {
-                slots[l] = Slot::none();
-                out.counts.dropped_lmax += 1;
-                continue;
-            }
             let (best, best_dot) = if dots[l] > limit {
                 (candidate, dots[l])
             } else {
@@ -281,11 +253,18 @@ impl Kernel<'_> {
                 out.counts.dropped_normal += 1;
                 continue;
             }
+            let [a, b, c] = corners(self.vertices, tris[l]);
+            let (u, v, w) = (sub(b, a), sub(c, a), sub(c, b));
+            if (dot(u, u) > self.lmax2) | (dot(v, v) > self.lmax2) | (dot(w, w) > self.lmax2) {
+                slots[l] = Slot::none();
+                out.counts.dropped_lmax += 1;
+                continue;
+            }
             out.last = best;
-            let centroid = [centroid[0][l], centroid[1][l], centroid[2][l]];
+            let centroid = add(a, scale(add(u, v), 1.0 / 3.0));
             slots[l] = Slot {
                 label: AtomicU32::new(FREE - best),
-                volume: volume[l] as f32,
+                volume: dot(cross(u, v), sub(a, self.reference)) as f32,
                 offset: dot(self.dominant[best as usize], centroid),
             };
             out.buckets[best as usize].push(first + l as u32);

@@ -85,3 +85,28 @@ proptest! {
         prop_assert_eq!(counts.grouped + counts.dropped_normal, normals.len());
     }
 }
+
+/// The normal test comes first: a triangle far from every dominant normal counts as
+/// dropped by the normal whatever its edges; `lmax` counts only the others.
+#[test]
+fn counts_attribute_each_dropped_triangle_to_one_test() {
+    // Triangle legs are 1 long (hypotenuse √2): lmax 1.2 drops every triangle by length.
+    let normals = [[0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]];
+    let mesh = triangles_with_normals(&normals);
+    let config = SegmentationConfig::new()
+        .with_lmax(1.2)
+        .with_norm_thresh(0.9);
+    let (groups, counts) = assign_groups(&mesh, &[[0.0, 0.0, 1.0]], &config).unwrap();
+    assert_eq!(groups, vec![NO_GROUP; 3]);
+    assert_eq!(
+        (counts.dropped_normal, counts.dropped_lmax, counts.grouped),
+        (1, 2, 0)
+    );
+    let config = config.with_lmax(1.5);
+    let (groups, counts) = assign_groups(&mesh, &[[0.0, 0.0, 1.0]], &config).unwrap();
+    assert_eq!(groups, vec![0, NO_GROUP, 0]);
+    assert_eq!(
+        (counts.dropped_normal, counts.dropped_lmax, counts.grouped),
+        (1, 0, 2)
+    );
+}

@@ -16,7 +16,8 @@ pub struct Counts {
     pub triangles: usize,
     /// Triangles dropped because their normal is too far from `up` (2.5D).
     pub dropped_normal: usize,
-    /// Triangles dropped by the `lmax` test.
+    /// Triangles dropped by the `lmax` test (3D: of those near enough to a dominant
+    /// normal, which is tested first).
     pub dropped_lmax: usize,
     /// Triangles dropped by the α test.
     pub dropped_alpha: usize,
