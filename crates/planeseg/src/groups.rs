@@ -168,7 +168,7 @@ impl Assignment {
 }
 
 /// Triangles per block of the assignment kernel: the lanes of its vector arithmetic.
-const LANES: usize = 4;
+const LANES: usize = 8;
 
 /// What group assignment needs of the mesh and the parameters.
 struct Kernel<'a> {
@@ -227,23 +227,9 @@ impl Kernel<'_> {
         slots: &mut [Slot; N],
         out: &mut ChunkOut<'_>,
     ) {
-        let candidate = out.last;
-        let (d, limit) = self
-            .lookup
-            .sure
-            .get(candidate as usize)
-            .copied()
-            .unwrap_or(([0.0; 3], f64::INFINITY));
-        let mut dots = [0.0f64; N];
-        for (dot, n) in dots.iter_mut().zip(normals) {
-            *dot = n[0] * d[0] + n[1] * d[1] + n[2] * d[2];
-        }
+        let (nearest, nearest_dot) = self.nearest(normals, out.last);
         for l in 0..N {
-            let (best, best_dot) = if dots[l] > limit {
-                (candidate, dots[l])
-            } else {
-                self.lookup.nearest(normals[l], self.dominant)
-            };
+            let (best, best_dot) = (nearest[l], nearest_dot[l]);
             // Also drops a NaN similarity.
             if best_dot
                 .partial_cmp(&self.norm_thresh)
@@ -271,7 +257,46 @@ impl Kernel<'_> {
             out.counts.grouped += 1;
         }
     }
+
+    /// The nearest dominant normal of each of `N` triangle normals and its dot product
+    /// (`NO_GROUP` and −∞ for a NaN normal); the lowest index on a tie. With at most
+    /// [`SCAN_MAX`] dominant normals a scan over all of them, lane by lane (vectorised,
+    /// no branch to mispredict); with more, one dot product with the last group's
+    /// normal settles most, [`NearestLookup`] the others.
+    #[inline(always)]
+    fn nearest<const N: usize>(&self, normals: &[[f64; 3]; N], last: u32) -> ([u32; N], [f64; N]) {
+        let (mut best, mut best_dot) = ([NO_GROUP; N], [f64::NEG_INFINITY; N]);
+        if self.dominant.len() <= SCAN_MAX {
+            for (j, &d) in self.dominant.iter().enumerate() {
+                for l in 0..N {
+                    let dot = dot(normals[l], d);
+                    let nearer = dot > best_dot[l];
+                    best[l] = if nearer { j as u32 } else { best[l] };
+                    best_dot[l] = if nearer { dot } else { best_dot[l] };
+                }
+            }
+            return (best, best_dot);
+        }
+        let (d, limit) = self
+            .lookup
+            .sure
+            .get(last as usize)
+            .copied()
+            .unwrap_or(([0.0; 3], f64::INFINITY));
+        for l in 0..N {
+            let dot = dot(normals[l], d);
+            (best[l], best_dot[l]) = if dot > limit {
+                (last, dot)
+            } else {
+                self.lookup.nearest(normals[l], self.dominant)
+            };
+        }
+        (best, best_dot)
+    }
 }
+
+/// Most dominant normals for which [`Kernel::nearest`] scans them all.
+const SCAN_MAX: usize = 4;
 
 /// The running state of [`chunk`].
 struct ChunkOut<'a> {

@@ -56,8 +56,14 @@ proptest! {
         nudges in proptest::collection::vec((0usize..40, -0.02f64..0.02, -0.02f64..0.02), 0..8),
         normals in proptest::collection::vec(direction(), 1..400),
         norm_thresh in -1.0f64..1.0,
+        // At most 4 dominant normals (2 and 2 nudged): the kernel scans them all.
+        few in proptest::bool::ANY,
     ) {
-        let mut dominant = dominant;
+        let (mut dominant, mut nudges) = (dominant, nudges);
+        if few {
+            dominant.truncate(2);
+            nudges.truncate(2);
+        }
         for (i, dx, dy) in nudges {
             let d = dominant[i % dominant.len()];
             dominant.push(unit([d[0] + dx, d[1] + dy, d[2]]));
