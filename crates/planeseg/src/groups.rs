@@ -296,7 +296,7 @@ impl Kernel<'_> {
 }
 
 /// Most dominant normals for which [`Kernel::nearest`] scans them all.
-const SCAN_MAX: usize = 4;
+const SCAN_MAX: usize = 64;
 
 /// The running state of [`chunk`].
 struct ChunkOut<'a> {

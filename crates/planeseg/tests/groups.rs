@@ -56,13 +56,19 @@ proptest! {
         nudges in proptest::collection::vec((0usize..40, -0.02f64..0.02, -0.02f64..0.02), 0..8),
         normals in proptest::collection::vec(direction(), 1..400),
         norm_thresh in -1.0f64..1.0,
-        // At most 4 dominant normals (2 and 2 nudged): the kernel scans them all.
-        few in proptest::bool::ANY,
+        // Few dominant normals (at most 4), some tens, or more than the kernel scans
+        // (its cube-map table then answers).
+        size in 0u8..3,
+        more in proptest::collection::vec(direction(), 70),
     ) {
         let (mut dominant, mut nudges) = (dominant, nudges);
-        if few {
-            dominant.truncate(2);
-            nudges.truncate(2);
+        match size {
+            0 => {
+                dominant.truncate(2);
+                nudges.truncate(2);
+            }
+            1 => {}
+            _ => dominant.extend(more),
         }
         for (i, dx, dy) in nudges {
             let d = dominant[i % dominant.len()];
