@@ -130,12 +130,13 @@ impl Assignment {
         let normals = mesh
             .triangle_normals()
             .ok_or(SegmentError::MissingNormals)?;
-        let lookup = NearestLookup::new(dominant);
+        // Few dominant normals are scanned; the table pays only for more.
+        let lookup = (dominant.len() > SCAN_MAX).then(|| NearestLookup::new(dominant));
         self.reference = reference_point(mesh);
         let kernel = Kernel {
             vertices: mesh.vertices(),
             dominant,
-            lookup: &lookup,
+            lookup: lookup.as_ref(),
             lmax2: if config.lmax > 0.0 {
                 config.lmax * config.lmax
             } else {
@@ -174,7 +175,8 @@ const LANES: usize = 8;
 struct Kernel<'a> {
     vertices: &'a [[f64; 3]],
     dominant: &'a [[f64; 3]],
-    lookup: &'a NearestLookup,
+    /// `None` with at most [`SCAN_MAX`] dominant normals, which are scanned.
+    lookup: Option<&'a NearestLookup>,
     lmax2: f64,
     norm_thresh: f64,
     reference: [f64; 3],
@@ -266,7 +268,7 @@ impl Kernel<'_> {
     #[inline(always)]
     fn nearest<const N: usize>(&self, normals: &[[f64; 3]; N], last: u32) -> ([u32; N], [f64; N]) {
         let (mut best, mut best_dot) = ([NO_GROUP; N], [f64::NEG_INFINITY; N]);
-        if self.dominant.len() <= SCAN_MAX {
+        let Some(lookup) = self.lookup else {
             for (j, &d) in self.dominant.iter().enumerate() {
                 for l in 0..N {
                     let dot = dot(normals[l], d);
@@ -276,9 +278,8 @@ impl Kernel<'_> {
                 }
             }
             return (best, best_dot);
-        }
-        let (d, limit) = self
-            .lookup
+        };
+        let (d, limit) = lookup
             .sure
             .get(last as usize)
             .copied()
@@ -288,7 +289,7 @@ impl Kernel<'_> {
             (best[l], best_dot[l]) = if dot > limit {
                 (last, dot)
             } else {
-                self.lookup.nearest(normals[l], self.dominant)
+                lookup.nearest(normals[l], self.dominant)
             };
         }
         (best, best_dot)
