@@ -145,20 +145,10 @@ impl SlotNormals {
     /// [`SmoothError::BadTriangleMap`] if the mesh was built from a cloud of another shape
     /// or maps a triangle this filter found missing (another cloud).
     pub fn apply_to_opc_mesh(&self, opc: &mut OpcMesh) -> Result<(), SmoothError> {
+        check_shape(opc, self.rows, self.cols)?;
         let map = &opc.triangle_map;
-        if map.cell_rows() + 1 != self.rows || map.cell_cols() + 1 != self.cols {
-            return Err(SmoothError::BadTriangleMap {
-                slot: 0,
-                reason: "the mesh was built from a cloud of another shape",
-            });
-        }
         let normals = self.for_triangle_map(map.as_slice(), opc.mesh.num_triangles())?;
-        opc.mesh
-            .set_triangle_normals(normals)
-            .map_err(|_| SmoothError::BadTriangleMap {
-                slot: 0,
-                reason: "the map does not cover the mesh's triangles",
-            })
+        set_mesh_normals(opc, normals)
     }
 
     /// Normals for `num_triangles` mesh triangles given a slot → triangle map
@@ -212,70 +202,106 @@ impl SlotNormals {
 
 impl SlotNormals {
     /// [`Self::for_triangle_map`] in two parallel passes when the map numbers the
-    /// triangles of present slots 0, 1, 2, … in slot order, as `opc_mesh` builds it: the
-    /// normals in mesh order are then those of the present slots in slot order. `None`
-    /// when the map is any other (the serial pass then checks it and names what is wrong).
+    /// triangles of present slots 0, 1, 2, … in slot order, as `opc_mesh` builds it (see
+    /// [`in_slot_order`]).
     fn in_slot_order(&self, triangle_map: &[u32], num_triangles: usize) -> Option<Vec<[f64; 3]>> {
-        let chunks = || {
-            triangle_map
-                .par_chunks(SLOT_CHUNK)
-                .zip(self.normals.par_chunks(SLOT_CHUNK))
-        };
-        // Per chunk, its first triangle and how many it has, if they are consecutive
-        // and their slots present.
-        let runs: Vec<(u32, usize)> = chunks()
-            .map(|(map, normals)| {
-                let mut run: Option<(u32, usize)> = None;
-                for (&t, n) in map.iter().zip(normals) {
-                    if t == NO_TRIANGLE {
-                        continue;
-                    }
-                    if n[0].is_nan() {
-                        return None;
-                    }
-                    run = match run {
-                        None => Some((t, 1)),
-                        Some((first, count)) if t as usize == first as usize + count => {
-                            Some((first, count + 1))
-                        }
-                        Some(_) => return None,
-                    };
-                }
-                Some(run.unwrap_or((0, 0)))
-            })
-            .collect::<Option<_>>()?;
-        let mut total = 0usize;
-        for &(first, count) in &runs {
-            if count > 0 && first as usize != total {
-                return None;
-            }
-            total += count;
-        }
-        if total != num_triangles {
-            return None;
-        }
-        let mut out = vec![[0.0; 3]; num_triangles];
-        let mut parts = Vec::with_capacity(runs.len());
-        let mut rest = out.as_mut_slice();
-        for (_, count) in runs {
-            let (part, tail) = rest.split_at_mut(count);
-            parts.push(part);
-            rest = tail;
-        }
-        parts
-            .into_par_iter()
-            .zip(chunks())
-            .for_each(|(part, (map, normals))| {
-                let present = map.iter().zip(normals).filter(|&(&t, _)| t != NO_TRIANGLE);
-                for (o, (_, n)) in part.iter_mut().zip(present) {
-                    *o = to_unit_f64(*n);
-                }
-            });
-        Some(out)
+        in_slot_order(triangle_map, num_triangles, |slot| self.get(slot))
     }
 }
 
-/// Slots per task of [`SlotNormals::in_slot_order`].
+/// The unit `f64` normals of a mesh's triangles from the `f32` normal of each slot
+/// (`normal(slot)`, `None` where the slot's triangle is missing), in two parallel passes,
+/// when the map numbers the triangles of present slots 0, 1, 2, … in slot order, as
+/// `opc_mesh` builds it: the normals in mesh order are then those of the present slots in
+/// slot order. `None` when the map is any other, or maps a missing slot (the serial pass
+/// of [`SlotNormals::for_triangle_map`] then checks it and names what is wrong).
+pub(crate) fn in_slot_order(
+    triangle_map: &[u32],
+    num_triangles: usize,
+    normal: impl Fn(usize) -> Option<[f32; 3]> + Sync,
+) -> Option<Vec<[f64; 3]>> {
+    let chunks = || triangle_map.par_chunks(SLOT_CHUNK).enumerate();
+    // Per chunk, its first triangle and how many it has, if they are consecutive and
+    // their slots present.
+    let runs: Vec<(u32, usize)> = chunks()
+        .map(|(chunk, map)| {
+            let mut run: Option<(u32, usize)> = None;
+            for (i, &t) in map.iter().enumerate() {
+                if t == NO_TRIANGLE {
+                    continue;
+                }
+                normal(chunk * SLOT_CHUNK + i)?;
+                run = match run {
+                    None => Some((t, 1)),
+                    Some((first, count)) if t as usize == first as usize + count => {
+                        Some((first, count + 1))
+                    }
+                    Some(_) => return None,
+                };
+            }
+            Some(run.unwrap_or((0, 0)))
+        })
+        .collect::<Option<_>>()?;
+    let mut total = 0usize;
+    for &(first, count) in &runs {
+        if count > 0 && first as usize != total {
+            return None;
+        }
+        total += count;
+    }
+    if total != num_triangles {
+        return None;
+    }
+    // Filled from several threads, so that the first touch of its pages is spread over
+    // them (`vec!` would zero it all on this one), then written over.
+    let mut out = Vec::with_capacity(num_triangles);
+    out.par_extend(rayon::iter::repeat_n([0.0; 3], num_triangles));
+    let mut parts = Vec::with_capacity(runs.len());
+    let mut rest = out.as_mut_slice();
+    for (_, count) in runs {
+        let (part, tail) = rest.split_at_mut(count);
+        parts.push(part);
+        rest = tail;
+    }
+    parts
+        .into_par_iter()
+        .zip(chunks())
+        .for_each(|(part, (chunk, map))| {
+            let present = map.iter().enumerate().filter(|&(_, &t)| t != NO_TRIANGLE);
+            for (o, (i, _)) in part.iter_mut().zip(present) {
+                // Checked in the first pass.
+                *o = to_unit_f64(normal(chunk * SLOT_CHUNK + i).unwrap_or_default());
+            }
+        });
+    Some(out)
+}
+
+/// Checks that a mesh was built from a cloud of `rows × cols` points.
+pub(crate) fn check_shape(opc: &OpcMesh, rows: usize, cols: usize) -> Result<(), SmoothError> {
+    let map = &opc.triangle_map;
+    if map.cell_rows() + 1 != rows || map.cell_cols() + 1 != cols {
+        return Err(SmoothError::BadTriangleMap {
+            slot: 0,
+            reason: "the mesh was built from a cloud of another shape",
+        });
+    }
+    Ok(())
+}
+
+/// Hands one normal per mesh triangle to the mesh.
+pub(crate) fn set_mesh_normals(
+    opc: &mut OpcMesh,
+    normals: Vec<[f64; 3]>,
+) -> Result<(), SmoothError> {
+    opc.mesh
+        .set_triangle_normals(normals)
+        .map_err(|_| SmoothError::BadTriangleMap {
+            slot: 0,
+            reason: "the map does not cover the mesh's triangles",
+        })
+}
+
+/// Slots per task of [`in_slot_order`].
 const SLOT_CHUNK: usize = 1 << 15;
 
 /// Widens a unit `f32` normal and renormalises it in `f64` (zero stays zero), with one

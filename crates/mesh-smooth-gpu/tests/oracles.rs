@@ -329,3 +329,49 @@ fn slot_normals_match_opc_mesh_and_plug_into_its_mesh() {
         .expect("meshable cloud");
     assert!(filtered.apply_to_opc_mesh(&mut other_mesh).is_err());
 }
+
+/// `bilateral_into_mesh` gives the normals of `bilateral` then `apply_to_opc_mesh`, on a
+/// cloud with holes and on both CPU backends, and refuses what `apply_to_opc_mesh`
+/// refuses (a mesh of another shape, or of a cloud with other holes) with the same error,
+/// leaving the mesh as it was.
+#[test]
+fn bilateral_into_mesh_matches_slot_normals_and_checks_the_mesh() {
+    let full = wavy_cloud(25, 30, 22, 0.005, 0.1);
+    let mut points = full.points().to_vec();
+    for p in points.iter_mut().step_by(37) {
+        *p = [f64::NAN; 3];
+    }
+    let cloud = OrganizedPointCloud::new(25, 30, points).expect("25 × 30 points");
+    let options = BilateralOptions::new();
+    let mesh_options = OpcMeshOptions::new().with_compute_normals(false);
+    let mesh = |c: &OrganizedPointCloud| c.mesh(&mesh_options).expect("meshable cloud");
+    for mut smoother in cpu_backends() {
+        let mut direct = mesh(&cloud);
+        smoother
+            .bilateral_into_mesh(&cloud, &options, &mut direct)
+            .expect("same cloud");
+        let mut through_slots = mesh(&cloud);
+        smoother
+            .bilateral(&cloud, &options)
+            .expect("valid options")
+            .apply_to_opc_mesh(&mut through_slots)
+            .expect("same cloud");
+        let normals = direct.mesh.triangle_normals().expect("normals set");
+        assert_eq!(Some(normals), through_slots.mesh.triangle_normals());
+        assert_eq!(normals.len(), direct.mesh.num_triangles());
+
+        for other in [wavy_cloud(25, 31, 22, 0.005, 0.1), full.clone()] {
+            let mut other_mesh = mesh(&other);
+            let error = smoother
+                .bilateral_into_mesh(&cloud, &options, &mut other_mesh)
+                .expect_err("a mesh of another cloud");
+            assert!(other_mesh.mesh.triangle_normals().is_none());
+            let expected = smoother
+                .bilateral(&cloud, &options)
+                .expect("valid options")
+                .apply_to_opc_mesh(&mut other_mesh)
+                .expect_err("a mesh of another cloud");
+            assert_eq!(error, expected);
+        }
+    }
+}

@@ -7,8 +7,7 @@ use std::sync::{Mutex, MutexGuard, PoisonError};
 
 use fastga::FastGa;
 use mesh_smooth_gpu::{
-    BilateralOptions, CpuSmoother, GpuSmoother, LaplacianOptions, SlotNormals, SmoothError,
-    Smoother,
+    BilateralOptions, CpuSmoother, GpuSmoother, LaplacianOptions, SmoothError, Smoother,
 };
 use opc_mesh::{OpcMesh, OrganizedPointCloud};
 use planeseg::Segmenter;
@@ -28,8 +27,6 @@ pub(crate) struct Reusable {
     /// shape), created on the first GPU run and kept: a stream of frames asks for one
     /// adapter.
     gpu: Option<GpuSmoother>,
-    /// The bilateral filter's output.
-    normals: SlotNormals,
     /// Planar segmentation's per-triangle buffers.
     pub segmenter: Segmenter,
 }
@@ -128,15 +125,7 @@ impl Reusable {
                 .gpu()?
                 .bilateral(cloud, options)?
                 .apply_to_opc_mesh(opc),
-            cpu => {
-                let mut normals = std::mem::take(&mut self.normals);
-                let result = self
-                    .cpu(cpu)
-                    .bilateral_into(cloud, options, &mut normals)
-                    .and_then(|()| normals.apply_to_opc_mesh(opc));
-                self.normals = normals;
-                result
-            }
+            cpu => self.cpu(cpu).bilateral_into_mesh(cloud, options, opc),
         }
     }
 }

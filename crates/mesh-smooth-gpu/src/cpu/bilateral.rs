@@ -41,15 +41,62 @@ fn by_type([a, b, c, d, e, f]: [&[f32]; 6]) -> [Xyz<'_>; 2] {
     [[a, b, c], [d, e, f]]
 }
 
-/// Computes normals and centroids, filters the normals and writes them per slot into
-/// `out` (resized). Options are validated.
-pub(crate) fn bilateral_into(
-    work: &mut BilateralWork,
+/// The filtered normals of both triangle types and their masks, indexed by cell.
+pub(crate) struct Filtered<'a> {
+    normals: [Xyz<'a>; 2],
+    masks: [&'a [f32]; 2],
+    /// Cell columns.
+    cols: usize,
+    parallel: bool,
+}
+
+impl Filtered<'_> {
+    /// The normal in `slot`, `None` where its triangle is missing.
+    #[inline]
+    fn get(&self, slot: usize) -> Option<[f32; 3]> {
+        let (cell, k) = (slot / TRIANGLES_PER_CELL, slot % TRIANGLES_PER_CELL);
+        let [x, y, z] = self.normals[k];
+        (self.masks[k][cell] > 0.0).then(|| [x[cell], y[cell], z[cell]])
+    }
+
+    /// One normal per slot into `out` (resized), `[NaN; 3]` where the triangle is missing.
+    pub(crate) fn write_slots(&self, out: &mut Vec<[f32; 3]>) {
+        let cells = self.masks[0].len();
+        out.resize(TRIANGLES_PER_CELL * cells, [0.0; 3]);
+        out.par_chunks_mut(TRIANGLES_PER_CELL * self.cols)
+            .enumerate()
+            .with_min_len(min_rows_per_task(self.parallel))
+            .for_each(|(r, out)| {
+                let first = r * out.len();
+                for (i, slot) in out.iter_mut().enumerate() {
+                    *slot = self.get(first + i).unwrap_or([f32::NAN; 3]);
+                }
+            });
+    }
+
+    /// The unit `f64` normals of the triangles of a mesh built from the same cloud, given
+    /// its slot → triangle map, when the map is in slot order as `opc_mesh` builds it
+    /// (see [`crate::grid::in_slot_order`]); `None` otherwise.
+    pub(crate) fn in_slot_order(
+        &self,
+        triangle_map: &[u32],
+        num_triangles: usize,
+    ) -> Option<Vec<[f64; 3]>> {
+        let slots = TRIANGLES_PER_CELL * self.masks[0].len();
+        if triangle_map.len() != slots {
+            return None;
+        }
+        crate::grid::in_slot_order(triangle_map, num_triangles, |slot| self.get(slot))
+    }
+}
+
+/// Computes normals and centroids and filters the normals. Options are validated.
+pub(crate) fn bilateral<'a>(
+    work: &'a mut BilateralWork,
     cloud: &OrganizedPointCloud,
     options: &BilateralOptions,
     parallel: bool,
-    out: &mut Vec<[f32; 3]>,
-) {
+) -> Filtered<'a> {
     let (rows, cols) = (cloud.rows(), cloud.cols());
     let BilateralWork {
         planes,
@@ -129,23 +176,12 @@ pub(crate) fn bilateral_into(
         n if n % 2 == 1 => by_type(odd.planes()),
         _ => by_type(even.planes()),
     };
-    out.resize(TRIANGLES_PER_CELL * num_cells, [0.0; 3]);
-    out.par_chunks_mut(TRIANGLES_PER_CELL * cells.cols)
-        .enumerate()
-        .with_min_len(min_rows_per_task(parallel))
-        .for_each(|(r, out)| {
-            for (j, pair) in out.chunks_exact_mut(TRIANGLES_PER_CELL).enumerate() {
-                let cell = r * cells.cols + j;
-                for (k, slot) in pair.iter_mut().enumerate() {
-                    *slot = if views[k].mask[cell] > 0.0 {
-                        let [x, y, z] = filtered[k];
-                        [x[cell], y[cell], z[cell]]
-                    } else {
-                        [f32::NAN; 3]
-                    };
-                }
-            }
-        });
+    Filtered {
+        normals: filtered,
+        masks: [views[0].mask, views[1].mask],
+        cols: cells.cols,
+        parallel,
+    }
 }
 
 /// Normals, centroids and masks of the type-`k` triangles of every cell of a cloud with
@@ -321,13 +357,27 @@ impl Filter {
         vec![0.0; (self.cells.half + 1) * per_row * self.cells.cols]
     }
 
-    /// The weight of a pair of triangles from their centroids' and normals' differences,
-    /// in fused multiply-adds (see [`fma`]).
+    /// The weight of a pair of triangles from their centroids' difference `e` and their
+    /// normals `n`, `m`, in fused multiply-adds (see [`fma`]). For unit normals the
+    /// squared difference `|n − m|²` is `2 − 2 n · m`: one dot product instead of three
+    /// differences. A missing triangle's zero normal gets a wrong weight that way, but
+    /// harmlessly: its own sum is never used (it keeps its normal) and its zero normal
+    /// adds nothing to its neighbours' sums. The same bits whichever triangle comes first.
     #[inline(always)]
-    fn weight(&self, [ex, ey, ez]: [f32; 3], [fx, fy, fz]: [f32; 3]) -> f32 {
+    fn weight(
+        &self,
+        [ex, ey, ez]: [f32; 3],
+        [nx, ny, nz]: [f32; 3],
+        [mx, my, mz]: [f32; 3],
+    ) -> f32 {
         let length = fma(ez, ez, fma(ey, ey, ex * ex));
-        let angle = fma(fz, fz, fma(fy, fy, fx * fx));
-        exp_neg(fma(angle, self.inv_var_angle, length * self.inv_var_length))
+        let dot = fma(nz, mz, fma(ny, my, nx * mx));
+        let two_iva = 2.0 * self.inv_var_angle;
+        exp_neg(fma(
+            dot,
+            -two_iva,
+            fma(length, self.inv_var_length, two_iva),
+        ))
     }
 
     /// Where, in the ring, the weights between the type-`k1` triangles of cell row `r`
@@ -385,7 +435,15 @@ fn rows_of_band(
                 .each_mut()
                 .map(|planes| planes.each_mut().map(|plane| &mut plane[at.clone()]));
             if shared {
-                output_row(filter, r, normals, types, ring, row_out);
+                // Terms of a triangle's sum: the 8, 24 or 48 neighbour cells of kernel
+                // 3, 5 or 7, two triangles each.
+                // (Called, not taken as a function pointer: only inlined into this
+                // function does it get its target features.)
+                match half {
+                    1 => output_row::<16>(filter, r, normals, types, ring, row_out),
+                    2 => output_row::<48>(filter, r, normals, types, ring, row_out),
+                    _ => output_row::<96>(filter, r, normals, types, ring, row_out),
+                }
             } else {
                 direct_row(filter, r, normals, types, row_out);
             }
@@ -394,7 +452,9 @@ fn rows_of_band(
 }
 
 /// The weights between cell row `r`'s triangles and those at each forward offset, for
-/// every pair of types, into the ring; pairs reaching past the grid are skipped.
+/// every pair of types, into the ring; pairs reaching past the grid are skipped. The
+/// four pairs of types of one offset share one pass over the row, which reads each
+/// triangle's normal and centroid once instead of twice.
 #[inline(always)]
 fn pair_weights(
     filter: &Filter,
@@ -414,21 +474,51 @@ fn pair_weights(
         let len = hi - lo;
         let p = r * cols + lo;
         let q = ((r + dr) * cols + lo).wrapping_add_signed(dc);
-        for k1 in 0..TRIANGLES_PER_CELL {
-            for k2 in 0..TRIANGLES_PER_CELL {
-                let [pnx, pny, pnz] = normals[k1].each_ref().map(|n| &n[p..p + len]);
-                let [pcx, pcy, pcz] = types[k1].centroid.each_ref().map(|c| &c[p..p + len]);
-                let [qnx, qny, qnz] = normals[k2].each_ref().map(|n| &n[q..q + len]);
-                let [qcx, qcy, qcz] = types[k2].centroid.each_ref().map(|c| &c[q..q + len]);
-                let start = filter.ring_row(r, pair, k1, k2) + lo;
-                let w = &mut ring[start..start + len];
-                for i in 0..len {
-                    w[i] = filter.weight(
-                        [pcx[i] - qcx[i], pcy[i] - qcy[i], pcz[i] - qcz[i]],
-                        [pnx[i] - qnx[i], pny[i] - qny[i], pnz[i] - qnz[i]],
-                    );
-                }
-            }
+        // Per type: centroid x, y, z and normal x, y, z from `at`.
+        let side = |at: usize| {
+            [0, 1].map(|k| {
+                let [cx, cy, cz] = types[k].centroid.each_ref().map(|c| span(c, at, len));
+                let [nx, ny, nz] = normals[k].each_ref().map(|n| span(n, at, len));
+                [cx, cy, cz, nx, ny, nz]
+            })
+        };
+        let [
+            [pc0x, pc0y, pc0z, pn0x, pn0y, pn0z],
+            [pc1x, pc1y, pc1z, pn1x, pn1y, pn1z],
+        ] = side(p);
+        let [
+            [qc0x, qc0y, qc0z, qn0x, qn0y, qn0z],
+            [qc1x, qc1y, qc1z, qn1x, qn1y, qn1z],
+        ] = side(q);
+        // The ring rows of the pairs (k1, k2) = (0, 0), (0, 1), (1, 0), (1, 1) follow
+        // each other `cols` apart.
+        let start = filter.ring_row(r, pair, 0, 0) + lo;
+        let rows4 = &mut ring[start..start + 3 * cols + len];
+        let (w00, rest) = rows4.split_at_mut(cols);
+        let (w01, rest) = rest.split_at_mut(cols);
+        let (w10, w11) = rest.split_at_mut(cols);
+        let (w00, w01) = (&mut w00[..len], &mut w01[..len]);
+        let (w10, w11) = (&mut w10[..len], &mut w11[..len]);
+        for i in 0..len {
+            let own = [
+                [pc0x[i], pc0y[i], pc0z[i], pn0x[i], pn0y[i], pn0z[i]],
+                [pc1x[i], pc1y[i], pc1z[i], pn1x[i], pn1y[i], pn1z[i]],
+            ];
+            let other = [
+                [qc0x[i], qc0y[i], qc0z[i], qn0x[i], qn0y[i], qn0z[i]],
+                [qc1x[i], qc1y[i], qc1z[i], qn1x[i], qn1y[i], qn1z[i]],
+            ];
+            let weight = |a: [f32; 6], b: [f32; 6]| {
+                filter.weight(
+                    [a[0] - b[0], a[1] - b[1], a[2] - b[2]],
+                    [a[3], a[4], a[5]],
+                    [b[3], b[4], b[5]],
+                )
+            };
+            w00[i] = weight(own[0], other[0]);
+            w01[i] = weight(own[0], other[1]);
+            w10[i] = weight(own[1], other[0]);
+            w11[i] = weight(own[1], other[1]);
         }
     }
 }
@@ -437,19 +527,16 @@ fn pair_weights(
 /// row is read once per term, the sums not at all.
 const BLOCK: usize = 32;
 
-/// Terms of a triangle's sum when pair weights are shared (kernel 7 at most): 48
-/// neighbour cells, 2 triangles each.
-const MAX_SHARED_TERMS: usize = 96;
-
 /// Writes cell row `r` of the next pass (both triangle types) into `out`; the ring
 /// holds the pair weights of rows `r − half ..= r`.
 ///
 /// A missing triangle's normal is zero (as [`compute_type`] makes it and
 /// [`normalize`] keeps it), so its terms add exact zeros without a mask; the terms are
-/// added in the order of [`direct_row`]. The sums of [`BLOCK`] cells at a time stay in
-/// registers while every term is added to them.
+/// added in the order of [`direct_row`]. Both triangle types of a cell have the same
+/// neighbours, so each neighbour's normal is read once for both sums. The sums of
+/// [`BLOCK`] cells at a time stay in registers while every term is added to them.
 #[inline(always)]
-fn output_row(
+fn output_row<const TERMS: usize>(
     filter: &Filter,
     r: usize,
     normals: &[Xyz<'_>; 2],
@@ -462,57 +549,76 @@ fn output_row(
     };
     let Cells { cols, half, .. } = filter.cells;
     let len = cols - 2 * half;
-    // Per term: where its weights start in the ring, where its neighbours' normals
-    // start, and their triangle type.
-    let mut terms = [(0usize, 0usize, 0usize); MAX_SHARED_TERMS];
+    let blocks = len / BLOCK;
+    // Per term (neighbour cell, then its triangle type kn, in raster order): the weights
+    // of the type-0 and type-1 triangles with the neighbour and the neighbour's normal
+    // x, y, z; as `blocks` blocks and the rest.
+    let terms: [[&[f32]; 5]; TERMS] = std::array::from_fn(|t| {
+        let (nb, kn) = (
+            &filter.neighbours[t / TRIANGLES_PER_CELL],
+            t % TRIANGLES_PER_CELL,
+        );
+        let w = |ko: usize| {
+            let start = if nb.forward {
+                filter.ring_row(r, nb.pair, ko, kn) + half
+            } else {
+                let row = r.wrapping_add_signed(nb.dr);
+                (filter.ring_row(row, nb.pair, kn, ko) + half).wrapping_add_signed(nb.dc)
+            };
+            span(ring, start, len)
+        };
+        let q = own.wrapping_add_signed(nb.dr * cols as isize + nb.dc);
+        let [x, y, z] = normals[kn].each_ref().map(|n| span(n, q, len));
+        [w(0), w(1), x, y, z]
+    });
+    let blocked = terms.map(|t| t.map(|s| s.as_chunks::<BLOCK>().0));
+    let rests = terms.map(|t| t.map(|s| &s[blocks * BLOCK..]));
+    let [[a0x, a0y, a0z], [a1x, a1y, a1z]] = out
+        .each_mut()
+        .map(|planes| planes.each_mut().map(|o| &mut o[half..half + len]));
+    let sums = [a0x, a0y, a0z, a1x, a1y, a1z].map(|a| a.as_chunks_mut::<BLOCK>());
+    let [
+        (s0x, r0x),
+        (s0y, r0y),
+        (s0z, r0z),
+        (s1x, r1x),
+        (s1y, r1y),
+        (s1z, r1z),
+    ] = sums;
+    for b in 0..blocks {
+        let mut acc = [[0.0f32; BLOCK]; 6];
+        for [w0, w1, qx, qy, qz] in &blocked {
+            let (w0, w1, qx, qy, qz) = (&w0[b], &w1[b], &qx[b], &qy[b], &qz[b]);
+            for i in 0..BLOCK {
+                acc[0][i] = fma(w0[i], qx[i], acc[0][i]);
+                acc[1][i] = fma(w0[i], qy[i], acc[1][i]);
+                acc[2][i] = fma(w0[i], qz[i], acc[2][i]);
+                acc[3][i] = fma(w1[i], qx[i], acc[3][i]);
+                acc[4][i] = fma(w1[i], qy[i], acc[4][i]);
+                acc[5][i] = fma(w1[i], qz[i], acc[5][i]);
+            }
+        }
+        [s0x[b], s0y[b], s0z[b], s1x[b], s1y[b], s1z[b]] = acc;
+    }
+    let rest = r0x.len();
+    let mut tails = [r0x, r0y, r0z, r1x, r1y, r1z].map(|t| &mut t[..rest]);
+    for t in &mut tails {
+        t.fill(0.0);
+    }
+    let [t0x, t0y, t0z, t1x, t1y, t1z] = tails;
+    for [w0, w1, qx, qy, qz] in &rests {
+        let [w0, w1, qx, qy, qz] = [w0, w1, qx, qy, qz].map(|t| &t[..rest]);
+        for i in 0..rest {
+            t0x[i] = fma(w0[i], qx[i], t0x[i]);
+            t0y[i] = fma(w0[i], qy[i], t0y[i]);
+            t0z[i] = fma(w0[i], qz[i], t0z[i]);
+            t1x[i] = fma(w1[i], qx[i], t1x[i]);
+            t1y[i] = fma(w1[i], qy[i], t1y[i]);
+            t1z[i] = fma(w1[i], qz[i], t1z[i]);
+        }
+    }
     for (ko, planes) in out.iter_mut().enumerate() {
-        let mut count = 0;
-        for nb in &filter.neighbours {
-            let q = own.wrapping_add_signed(nb.dr * cols as isize + nb.dc);
-            for kn in 0..TRIANGLES_PER_CELL {
-                let w = if nb.forward {
-                    filter.ring_row(r, nb.pair, ko, kn) + half
-                } else {
-                    let row = r.wrapping_add_signed(nb.dr);
-                    (filter.ring_row(row, nb.pair, kn, ko) + half).wrapping_add_signed(nb.dc)
-                };
-                terms[count] = (w, q, kn);
-                count += 1;
-            }
-        }
-        let terms = &terms[..count];
         let [ax, ay, az] = planes.each_mut().map(|o| &mut o[half..half + len]);
-        let mut start = 0;
-        while start + BLOCK <= len {
-            let mut sums = [[0.0f32; BLOCK]; 3];
-            for &(w, q, kn) in terms {
-                let w = span(ring, w + start, BLOCK);
-                let [qx, qy, qz] = normals[kn].each_ref().map(|n| span(n, q + start, BLOCK));
-                for i in 0..BLOCK {
-                    sums[0][i] = fma(w[i], qx[i], sums[0][i]);
-                    sums[1][i] = fma(w[i], qy[i], sums[1][i]);
-                    sums[2][i] = fma(w[i], qz[i], sums[2][i]);
-                }
-            }
-            ax[start..start + BLOCK].copy_from_slice(&sums[0]);
-            ay[start..start + BLOCK].copy_from_slice(&sums[1]);
-            az[start..start + BLOCK].copy_from_slice(&sums[2]);
-            start += BLOCK;
-        }
-        let rest = len - start;
-        let [ax_r, ay_r, az_r] = [&mut ax[start..], &mut ay[start..], &mut az[start..]];
-        ax_r.fill(0.0);
-        ay_r.fill(0.0);
-        az_r.fill(0.0);
-        for &(w, q, kn) in terms {
-            let w = span(ring, w + start, rest);
-            let [qx, qy, qz] = normals[kn].each_ref().map(|n| span(n, q + start, rest));
-            for i in 0..rest {
-                ax_r[i] = fma(w[i], qx[i], ax_r[i]);
-                ay_r[i] = fma(w[i], qy[i], ay_r[i]);
-                az_r[i] = fma(w[i], qz[i], az_r[i]);
-            }
-        }
         normalize([ax, ay, az], own, &normals[ko], types[ko].mask);
     }
 }
@@ -549,7 +655,8 @@ fn direct_row(
                     let w = qm[i]
                         * filter.weight(
                             [cx[i] - qcx[i], cy[i] - qcy[i], cz[i] - qcz[i]],
-                            [nx[i] - qnx[i], ny[i] - qny[i], nz[i] - qnz[i]],
+                            [nx[i], ny[i], nz[i]],
+                            [qnx[i], qny[i], qnz[i]],
                         );
                     ax[i] = fma(w, qnx[i], ax[i]);
                     ay[i] = fma(w, qny[i], ay[i]);
@@ -588,9 +695,11 @@ fn copy_borders(
 }
 
 /// Turns the weighted sums `a` of the interior cells from `own` into unit normals;
-/// a missing triangle, or one whose sum vanishes, keeps its normal. A sum is scaled by
-/// its largest component first, so that the squares of small sums (weights near
-/// [`super::fast_exp::EXP_NEG_CUTOFF`]) stay normal `f32` numbers, as on the GPU.
+/// a missing triangle, or one whose sum vanishes, keeps its normal. A sum is first
+/// scaled, exactly, by the power of two that brings its largest component into
+/// [0.5, 1), so that the squares of small sums (weights near
+/// [`super::fast_exp::EXP_NEG_CUTOFF`]) stay normal `f32` numbers, as on the GPU; then
+/// one square root and one division serve all three components.
 #[inline(always)]
 fn normalize(a: [&mut [f32]; 3], own: usize, normals: &Xyz<'_>, mask: &[f32]) {
     let [ax, ay, az] = a;
@@ -600,9 +709,11 @@ fn normalize(a: [&mut [f32]; 3], own: usize, normals: &Xyz<'_>, mask: &[f32]) {
     for i in 0..len {
         let m = ax[i].abs().max(ay[i].abs()).max(az[i].abs());
         let (x, y, z) = if om[i] > 0.0 && m > 0.0 {
-            let (bx, by, bz) = (ax[i] / m, ay[i] / m, az[i] / m);
-            let s = (bx * bx + by * by + bz * bz).sqrt();
-            (bx / s, by / s, bz / s)
+            // 2^(126 − E) for m's biased exponent E (sums stay far below 2^125).
+            let scale = f32::from_bits(0x7e80_0000u32.wrapping_sub(m.to_bits() & 0x7f80_0000));
+            let (bx, by, bz) = (ax[i] * scale, ay[i] * scale, az[i] * scale);
+            let inverse = 1.0 / (bx * bx + by * by + bz * bz).sqrt();
+            (bx * inverse, by * inverse, bz * inverse)
         } else {
             (nx[i], ny[i], nz[i])
         };

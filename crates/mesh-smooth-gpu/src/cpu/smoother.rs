@@ -1,8 +1,8 @@
 //! [`CpuSmoother`]: the CPU backend, with buffers kept across calls.
 
-use opc_mesh::OrganizedPointCloud;
+use opc_mesh::{OpcMesh, OrganizedPointCloud};
 
-use super::bilateral::{BilateralWork, bilateral_into};
+use super::bilateral::{BilateralWork, bilateral};
 use super::laplacian::{LaplacianWork, Passes, laplacian_in_place};
 use crate::{BilateralOptions, LaplacianOptions, SlotNormals, SmoothError, Smoother};
 
@@ -17,7 +17,7 @@ use crate::{BilateralOptions, LaplacianOptions, SlotNormals, SmoothError, Smooth
 ///
 /// ```
 /// use mesh_smooth_gpu::{BilateralOptions, CpuSmoother, LaplacianOptions, SlotNormals};
-/// use opc_mesh::OrganizedPointCloud;
+/// use opc_mesh::{OpcMesh, OrganizedPointCloud};
 ///
 /// let mut smoother = CpuSmoother::new();
 /// let mut normals = SlotNormals::default();
@@ -110,7 +110,7 @@ impl CpuSmoother {
     ///
     /// ```
     /// use mesh_smooth_gpu::{CpuSmoother, LaplacianOptions};
-    /// use opc_mesh::OrganizedPointCloud;
+    /// use opc_mesh::{OpcMesh, OrganizedPointCloud};
     ///
     /// let points: Vec<[f64; 3]> =
     ///     (0..100).map(|i| [(i % 10) as f64, (i / 10) as f64, (i % 3) as f64 * 0.1]).collect();
@@ -165,9 +165,59 @@ impl CpuSmoother {
     ) -> Result<(), SmoothError> {
         options.validate()?;
         out.refill(cloud.rows(), cloud.cols(), |normals| {
-            bilateral_into(&mut self.bilateral, cloud, options, self.parallel, normals);
+            bilateral(&mut self.bilateral, cloud, options, self.parallel).write_slots(normals);
         });
         Ok(())
+    }
+
+    /// The bilateral filter, replacing the triangle normals of a mesh built from the same
+    /// cloud by opc-mesh: [`Self::bilateral_into`] then
+    /// [`SlotNormals::apply_to_opc_mesh`], with the same results and errors, but without
+    /// the per-slot copy in between when the mesh's triangle map is in slot order (as
+    /// opc-mesh builds it).
+    ///
+    /// ```
+    /// use mesh_smooth_gpu::{BilateralOptions, CpuSmoother};
+    /// use opc_mesh::{OpcMeshOptions, OrganizedPointCloud};
+    ///
+    /// let points: Vec<[f64; 3]> =
+    ///     (0..100).map(|i| [(i % 10) as f64, (i / 10) as f64, 0.01 * (i % 3) as f64]).collect();
+    /// let cloud = OrganizedPointCloud::new(10, 10, points)?;
+    /// let options = OpcMeshOptions::new().with_compute_normals(false);
+    /// let mut opc = cloud.mesh(&options)?;
+    /// assert!(opc.mesh.triangle_normals().is_none());
+    /// let mut smoother = CpuSmoother::new();
+    /// smoother.bilateral_into_mesh(&cloud, &BilateralOptions::new(), &mut opc)?;
+    ///
+    /// // The same normals as through `SlotNormals`.
+    /// let mut other = cloud.mesh(&options)?;
+    /// smoother.bilateral(&cloud, &BilateralOptions::new())?.apply_to_opc_mesh(&mut other)?;
+    /// assert_eq!(opc.mesh.triangle_normals(), other.mesh.triangle_normals());
+    /// assert_eq!(opc.mesh.triangle_normals().map(<[_]>::len), Some(opc.mesh.num_triangles()));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    ///
+    /// # Errors
+    /// Invalid options, or a mesh of another cloud ([`SmoothError::BadTriangleMap`]); the
+    /// mesh is then unchanged.
+    pub fn bilateral_into_mesh(
+        &mut self,
+        cloud: &OrganizedPointCloud,
+        options: &BilateralOptions,
+        opc: &mut OpcMesh,
+    ) -> Result<(), SmoothError> {
+        options.validate()?;
+        crate::grid::check_shape(opc, cloud.rows(), cloud.cols())?;
+        let filtered = bilateral(&mut self.bilateral, cloud, options, self.parallel);
+        let map = opc.triangle_map.as_slice();
+        match filtered.in_slot_order(map, opc.mesh.num_triangles()) {
+            Some(normals) => crate::grid::set_mesh_normals(opc, normals),
+            None => {
+                let mut slots = SlotNormals::default();
+                slots.refill(cloud.rows(), cloud.cols(), |n| filtered.write_slots(n));
+                slots.apply_to_opc_mesh(opc)
+            }
+        }
     }
 }
 
