@@ -109,11 +109,20 @@ pub(crate) fn laplacian_in_place(
         std::mem::swap(&mut current, &mut next);
     }
     let [x, y, z] = &current;
-    for (i, p) in cloud.points_mut().iter_mut().enumerate() {
-        if weight_sums[i] > 0.0 {
-            *p = [f64::from(x[i]), f64::from(y[i]), f64::from(z[i])];
-        }
-    }
+    let weight_sums = &*weight_sums;
+    cloud
+        .points_mut()
+        .par_chunks_mut(cols)
+        .enumerate()
+        .with_min_len(min_rows_per_task(parallel))
+        .for_each(|(r, points)| {
+            let first = r * cols;
+            for (i, p) in (first..).zip(points) {
+                if weight_sums[i] > 0.0 {
+                    *p = [f64::from(x[i]), f64::from(y[i]), f64::from(z[i])];
+                }
+            }
+        });
 }
 
 /// The previous pass's planes.
