@@ -205,19 +205,15 @@ impl SlotNormals {
     /// triangles of present slots 0, 1, 2, … in slot order, as `opc_mesh` builds it (see
     /// [`in_slot_order`]).
     fn in_slot_order(&self, triangle_map: &[u32], num_triangles: usize) -> Option<Vec<[f64; 3]>> {
-        in_slot_order(
-            triangle_map,
-            num_triangles,
-            |chunk, map, first, gathered| {
-                let normals = &self.normals[chunk * SLOT_CHUNK..][..map.len()];
-                let (mut next, mut valid) = (0, true);
-                for (&n, &t) in normals.iter().zip(map) {
-                    let present = !n[0].is_nan();
-                    gather_mapped((n, present, t), first, gathered, &mut next, &mut valid);
-                }
-                valid
-            },
-        )
+        in_slot_order(triangle_map, num_triangles, |chunk, map, first, part| {
+            let normals = &self.normals[chunk * SLOT_CHUNK..][..map.len()];
+            let (mut next, mut valid) = (0, true);
+            for (&n, &t) in normals.iter().zip(map) {
+                let present = !n[0].is_nan();
+                gather_mapped((n, present, t), first, part, &mut next, &mut valid);
+            }
+            valid
+        })
     }
 }
 
@@ -228,14 +224,14 @@ impl SlotNormals {
 /// then checks it and names what is wrong).
 ///
 /// Two parallel passes over chunks of [`SLOT_CHUNK`] slots: one counts each chunk's mapped
-/// slots; in the other, `gather(chunk, map, first, gathered)` puts the `f32` normals of
-/// chunk `chunk`'s mapped slots (`map` its part of the map) into `gathered`, in order, and
-/// says whether they hold the triangles `first`, `first + 1`, … and are present (see
-/// [`gather_mapped`]); they are then widened into the output.
+/// slots; in the other, `gather(chunk, map, first, part)` puts the widened normals of
+/// chunk `chunk`'s mapped slots (`map` its part of the map) into its part of the output,
+/// in order, and says whether they hold the triangles `first`, `first + 1`, … and are
+/// present (see [`gather_mapped`]); they are then renormalised there.
 pub(crate) fn in_slot_order(
     triangle_map: &[u32],
     num_triangles: usize,
-    gather: impl Fn(usize, &[u32], usize, &mut [[f32; 3]]) -> bool + Sync,
+    gather: impl Fn(usize, &[u32], usize, &mut [[f64; 3]]) -> bool + Sync,
 ) -> Option<Vec<[f64; 3]>> {
     let counts: Vec<usize> = triangle_map
         .par_chunks(SLOT_CHUNK)
@@ -259,10 +255,9 @@ pub(crate) fn in_slot_order(
         .into_par_iter()
         .zip(triangle_map.par_chunks(SLOT_CHUNK))
         .enumerate()
-        .map_init(Vec::new, |gathered, (chunk, ((first, part), map))| {
-            gathered.resize(map.len() + 1, [0.0; 3]);
-            let valid = gather(chunk, map, first, gathered);
-            widen_to_unit(&gathered[..part.len()], part);
+        .map(|(chunk, ((first, part), map))| {
+            let valid = gather(chunk, map, first, part);
+            renormalize(part);
             valid
         })
         .all(|valid| valid);
@@ -270,22 +265,25 @@ pub(crate) fn in_slot_order(
 }
 
 /// The step of [`in_slot_order`]'s `gather` for one slot: the slot's normal `normal`,
-/// whether its triangle is `present`, its map entry `t`. Writes the normal at `next`
-/// (`gathered` has room for one past the chunk's mapped slots) and moves `next` on when
-/// the slot is mapped; clears `valid` when it is mapped to anything but triangle
-/// `first + next` or is missing. Branch-free: noisy depth frames mix missing and present
-/// slots at random, where branches would mostly mispredict.
+/// whether its triangle is `present`, its map entry `t`. Writes the widened normal at
+/// `next` of `part` (the chunk's share of the output) and moves `next` on when the slot
+/// is mapped; clears `valid` when it is mapped to anything but triangle `first + next`
+/// or is missing. Branch-free but for the end of `part` (past its last triangle, missing
+/// slots are not written): noisy depth frames mix missing and present slots at random,
+/// where branches would mostly mispredict.
 #[inline(always)]
 pub(crate) fn gather_mapped(
     (normal, present, t): ([f32; 3], bool, u32),
     first: usize,
-    gathered: &mut [[f32; 3]],
+    part: &mut [[f64; 3]],
     next: &mut usize,
     valid: &mut bool,
 ) {
     let mapped = t != NO_TRIANGLE;
     *valid &= !mapped | ((t as usize == first + *next) & present);
-    gathered[*next] = normal;
+    if let Some(slot) = part.get_mut(*next) {
+        *slot = normal.map(f64::from);
+    }
     *next += usize::from(mapped);
 }
 
@@ -317,12 +315,12 @@ pub(crate) fn set_mesh_normals(
 /// Slots per task of [`in_slot_order`].
 pub(crate) const SLOT_CHUNK: usize = 1 << 15;
 
-/// [`to_unit_f64`] of every normal of `from` into `to` (as long), vectorised where the CPU
-/// allows.
+/// Renormalises widened unit normals in `f64` (see [`to_unit_f64`]), vectorised where the
+/// CPU allows.
 #[multiversion::multiversion(targets("x86_64+avx512f+avx512vl+avx512bw+avx512dq", "x86_64+avx2"))]
-fn widen_to_unit(from: &[[f32; 3]], to: &mut [[f64; 3]]) {
-    for (t, &f) in to.iter_mut().zip(from) {
-        *t = to_unit_f64(f);
+fn renormalize(normals: &mut [[f64; 3]]) {
+    for n in normals {
+        *n = unit_f64(*n);
     }
 }
 
@@ -331,9 +329,13 @@ fn widen_to_unit(from: &[[f32; 3]], to: &mut [[f64; 3]]) {
 /// filtered normal; `f32` rounding leaves δ near 1e-7), the factor `1/√(1 + δ)` is its
 /// series `1 − δ/2 + 3δ²/8`, whose error (below δ³/3, about 1e-22) lies far under the
 /// `f64` rounding, with neither square root nor division.
-#[inline(always)]
 fn to_unit_f64(n: [f32; 3]) -> [f64; 3] {
-    let v = n.map(f64::from);
+    unit_f64(n.map(f64::from))
+}
+
+/// [`to_unit_f64`] of a normal already widened.
+#[inline(always)]
+fn unit_f64(v: [f64; 3]) -> [f64; 3] {
     let len2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
     let delta = len2 - 1.0;
     let factor = if delta.abs() < 1e-4 {

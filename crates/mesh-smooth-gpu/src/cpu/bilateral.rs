@@ -87,26 +87,22 @@ impl Filtered<'_> {
         if triangle_map.len() != slots {
             return None;
         }
-        in_slot_order(
-            triangle_map,
-            num_triangles,
-            |chunk, map, first, gathered| {
-                // Chunks hold whole cells (an even number of slots).
-                let cells = chunk * SLOT_CHUNK / TRIANGLES_PER_CELL..;
-                let cells = cells.start..cells.start + map.len() / TRIANGLES_PER_CELL;
-                let [x0, y0, z0] = self.normals[0].map(|p| &p[cells.clone()]);
-                let [x1, y1, z1] = self.normals[1].map(|p| &p[cells.clone()]);
-                let [m0, m1] = self.masks.map(|m| &m[cells.clone()]);
-                let (mut next, mut valid) = (0, true);
-                for (c, pair) in map.chunks_exact(TRIANGLES_PER_CELL).enumerate() {
-                    let first_type = ([x0[c], y0[c], z0[c]], m0[c] > 0.0, pair[0]);
-                    gather_mapped(first_type, first, gathered, &mut next, &mut valid);
-                    let second_type = ([x1[c], y1[c], z1[c]], m1[c] > 0.0, pair[1]);
-                    gather_mapped(second_type, first, gathered, &mut next, &mut valid);
-                }
-                valid
-            },
-        )
+        in_slot_order(triangle_map, num_triangles, |chunk, map, first, part| {
+            // Chunks hold whole cells (an even number of slots).
+            let cells = chunk * SLOT_CHUNK / TRIANGLES_PER_CELL..;
+            let cells = cells.start..cells.start + map.len() / TRIANGLES_PER_CELL;
+            let [x0, y0, z0] = self.normals[0].map(|p| &p[cells.clone()]);
+            let [x1, y1, z1] = self.normals[1].map(|p| &p[cells.clone()]);
+            let [m0, m1] = self.masks.map(|m| &m[cells.clone()]);
+            let (mut next, mut valid) = (0, true);
+            for (c, pair) in map.chunks_exact(TRIANGLES_PER_CELL).enumerate() {
+                let first_type = ([x0[c], y0[c], z0[c]], m0[c] > 0.0, pair[0]);
+                gather_mapped(first_type, first, part, &mut next, &mut valid);
+                let second_type = ([x1[c], y1[c], z1[c]], m1[c] > 0.0, pair[1]);
+                gather_mapped(second_type, first, part, &mut next, &mut valid);
+            }
+            valid
+        })
     }
 }
 
