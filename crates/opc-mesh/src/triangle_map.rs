@@ -37,7 +37,11 @@ pub enum CellTriangle {
 /// assert_eq!(map.triangle_gids(), vec![1, 4, 5, 6, 7]);
 /// # Ok::<(), opc_mesh::OpcError>(())
 /// ```
-#[derive(Debug, Clone, PartialEq, Eq)]
+///
+/// `TriangleMap::default()` is the empty map of a 0 × 0 grid, storage for
+/// [`OrganizedPointCloudView::mesh_reusing`](crate::OrganizedPointCloudView::mesh_reusing)
+/// to grow.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub struct TriangleMap {
     cell_rows: usize,
     cell_cols: usize,

@@ -174,6 +174,10 @@ pub fn stream(args: StreamArgs) -> Result<Outcome, CliError> {
             );
         }
         records.push(Record::of(&frame));
+        // The next frame is meshed into this one's arrays.
+        if let Ok(extraction) = frame.extraction {
+            polylidar.recycle(extraction);
+        }
     }
     if progress {
         eprintln!();

@@ -64,6 +64,33 @@ impl Polylidar {
         self.organized(cloud, None)
     }
 
+    /// Hands a finished extraction back so that the next organized frame is meshed into
+    /// its mesh's arrays (vertices, triangles, twins, normals) instead of fresh memory, which
+    /// would first have to be allocated and cleared: for a stream of frames of one shape
+    /// (a 424 × 240 depth frame has 4.7 MB of them). Results are the same either way; a
+    /// mesh of another shape is grown or cut to fit. The extraction's polygons are
+    /// dropped with it.
+    ///
+    /// ```
+    /// use polylidar::{Config, OrganizedPointCloud, Polylidar};
+    /// let frame = |z: f64| {
+    ///     let points = (0..900).map(|i| [(i % 30) as f64 * 0.1, (i / 30) as f64 * 0.1, z]);
+    ///     OrganizedPointCloud::new(30, 30, points.collect())
+    /// };
+    /// let config = Config::new().with_lmax(0.5).with_z_thresh(0.01).with_min_triangles(50);
+    /// let polylidar = Polylidar::new(config)?;
+    /// for z in [1.0, 1.1, 1.2] {
+    ///     let extraction = polylidar.extract_organized(&frame(z)?)?;
+    ///     assert_eq!(extraction.polygons.len(), 1);
+    ///     assert_eq!(extraction.mesh.vertices()[0][2], z);
+    ///     polylidar.recycle(extraction);
+    /// }
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn recycle(&self, extraction: Extraction) {
+        reuse::lock(&self.reuse).recycled = Some(extraction.mesh);
+    }
+
     /// The organized pipeline on `input`, which is `owned` viewed when the caller owns it.
     fn organized(
         &self,
@@ -113,9 +140,10 @@ impl Polylidar {
                         laplacian_iterations =
                             timings.time("laplacian", || laplacian(&mut reuse, l, c))?;
                     }
+                    let storage = reuse.mesh_storage();
                     let mut opc = timings.time("mesh", || match &cloud {
-                        Some(c) => c.mesh(&options),
-                        None => input.mesh(&options),
+                        Some(c) => c.mesh_reusing(&options, storage),
+                        None => input.mesh_reusing(&options, storage),
                     })?;
                     if let (Some(b), Some(c)) = (&config.bilateral, &cloud) {
                         timings.time("bilateral", || {
@@ -125,6 +153,8 @@ impl Polylidar {
                     opc
                 }
             };
+            let OpcMesh { mesh, triangle_map } = opc;
+            reuse.triangle_map = Some(triangle_map);
             // `extract_planes` takes the lock again for FastGA.
             drop(reuse);
             let filled_count = filled.iter().filter(|&&f| f).count();
@@ -141,7 +171,7 @@ impl Polylidar {
                 filled: filled_count,
                 ..Counts::default()
             };
-            let mut extraction = self.extract_planes(opc.mesh, None, counts, timings)?;
+            let mut extraction = self.extract_planes(mesh, None, counts, timings)?;
             if filled_count > 0 {
                 extraction.filled = filled;
             }
@@ -344,6 +374,7 @@ fn smooth_on_gpu(
 ) -> Result<(u32, OpcMesh), PolylidarError> {
     let start = Instant::now();
     let (iterations, passes) = laplacian_passes(l, cloud);
+    let storage = reuse.mesh_storage();
     let (smoothed, (meshed, at, meshing), normals) = reuse.gpu()?.laplacian_then_bilateral(
         cloud,
         &l.options(iterations),
@@ -351,7 +382,7 @@ fn smooth_on_gpu(
         &b.options(),
         |smoothed| {
             let at = start.elapsed();
-            let meshed = smoothed.mesh(options);
+            let meshed = smoothed.mesh_reusing(options, storage);
             (meshed, at, start.elapsed() - at)
         },
     )?;

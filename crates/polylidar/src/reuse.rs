@@ -6,10 +6,11 @@
 use std::sync::{Mutex, MutexGuard, PoisonError};
 
 use fastga::FastGa;
+use halfedge_mesh::HalfEdgeMesh;
 use mesh_smooth_gpu::{
     BilateralOptions, CpuSmoother, GpuSmoother, LaplacianOptions, SmoothError, Smoother,
 };
-use opc_mesh::{OpcMesh, OrganizedPointCloud};
+use opc_mesh::{OpcMesh, OrganizedPointCloud, TriangleMap};
 use planeseg::Segmenter;
 
 use crate::SmoothingBackend;
@@ -29,6 +30,11 @@ pub(crate) struct Reusable {
     gpu: Option<GpuSmoother>,
     /// Planar segmentation's per-triangle buffers.
     pub segmenter: Segmenter,
+    /// The arrays of a mesh handed back by [`crate::Polylidar::recycle`], to mesh the next
+    /// organized frame into.
+    pub recycled: Option<HalfEdgeMesh>,
+    /// The last organized frame's triangle map, storage for the next one's.
+    pub triangle_map: Option<TriangleMap>,
 }
 
 /// The shared slot; a run that panicked while holding it left nothing that the next
@@ -38,6 +44,15 @@ pub(crate) fn lock(slot: &Mutex<Reusable>) -> MutexGuard<'_, Reusable> {
 }
 
 impl Reusable {
+    /// Storage to mesh the next organized frame into: the recycled mesh's arrays and the
+    /// last triangle map, or empty arrays.
+    pub fn mesh_storage(&mut self) -> OpcMesh {
+        OpcMesh {
+            mesh: self.recycled.take().unwrap_or_default(),
+            triangle_map: self.triangle_map.take().unwrap_or_default(),
+        }
+    }
+
     /// The kept smoother of `backend`, created on its first use.
     fn smoother(&mut self, backend: SmoothingBackend) -> Result<&mut dyn Smoother, SmoothError> {
         Ok(match backend {

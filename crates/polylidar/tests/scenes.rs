@@ -429,3 +429,48 @@ fn a_pipeline_can_be_shared_between_threads() {
         }
     });
 }
+
+/// Frames meshed into a recycled extraction's arrays (and the previous triangle map)
+/// give the extraction of a fresh run, through a stream whose shape changes (the arrays
+/// grow and shrink), with both filters on and without them.
+#[test]
+fn recycled_extractions_give_the_results_of_fresh_runs() {
+    let scene = Scene::room(&RoomConfig::default()).expect("room");
+    let frame = |rows: usize, cols: usize, seed: u64| {
+        let pose = Pose::look_at([3.0, 0.3, 2.6], [3.2, 3.0, 0.0], [0.0, 0.0, 1.0]);
+        let camera = PinholeCamera::new(rows, cols, 0.5 * cols as f64, 0.5 * cols as f64)
+            .expect("valid camera")
+            .with_pose(pose.expect("valid pose"));
+        cloud(
+            &scene
+                .scan(&camera, &Noise::new(0.004, 0.0, seed))
+                .expect("scan"),
+        )
+    };
+    let frames = [
+        frame(120, 160, 1),
+        frame(150, 200, 2),
+        frame(90, 130, 3),
+        frame(120, 160, 4),
+    ];
+    let smoothed = config()
+        .with_z_thresh(0.05)
+        .with_norm_thresh(0.95)
+        .with_laplacian(Some(LaplacianConfig::default()))
+        .with_bilateral(Some(BilateralConfig::default()));
+    for config in [config(), smoothed] {
+        let recycling = Polylidar::new(config.clone()).expect("config");
+        for cloud in &frames {
+            let fresh = Polylidar::new(config.clone())
+                .expect("config")
+                .extract_organized(cloud)
+                .expect("extraction");
+            let got = recycling.extract_organized(cloud).expect("extraction");
+            assert_eq!(got.mesh, fresh.mesh);
+            assert_eq!(got.polygons, fresh.polygons);
+            assert_eq!(got.dominant_normals, fresh.dominant_normals);
+            assert!(!got.polygons.is_empty());
+            recycling.recycle(got);
+        }
+    }
+}

@@ -170,12 +170,13 @@ pub fn section(ctx: &Ctx) -> Result<String> {
     for size in &sizes {
         for (preset, config) in &variants {
             let polylidar = Polylidar::new(config.clone())?;
-            // Warm-up: one pass over the frames (thread pool, FastGA, buffers).
+            // Warm-up: one pass over the frames (thread pool, FastGA, buffers). Each
+            // extraction is handed back, as a stream does, for the next frame's mesh.
             for cloud in &size.frames {
-                drop(polylidar.extract_organized(cloud)?);
+                polylidar.recycle(polylidar.extract_organized(cloud)?);
             }
             let (first, growth) = peak_growth(|| polylidar.extract_organized(&size.frames[0]));
-            drop(first?);
+            polylidar.recycle(first?);
             let mut per_stage: Vec<Vec<f64>> = vec![Vec::new(); STAGES.len() + EXTRA_STAGES.len()];
             let mut wall = Vec::with_capacity(frames);
             let mut polygons = Vec::with_capacity(frames);
@@ -200,6 +201,7 @@ pub fn section(ctx: &Ctx) -> Result<String> {
                 } else {
                     extraction.postprocessed.len()
                 } as f64);
+                polylidar.recycle(extraction);
             }
             let p90 = nearest_rank(&wall, 0.9);
             let wall = Stats::from_samples(wall).ok_or_else(|| msg("no timed frames"))?;
