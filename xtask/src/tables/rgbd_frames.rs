@@ -262,7 +262,8 @@ pub fn section(ctx: &Ctx) -> Result<String> {
         "\n## Full-resolution depth frames (camera rate)\n\n\
          `Polylidar::extract_organized` on {threads} threads over a stream of {frames} frames \
          (the frames of a size repeated in turn; one warm-up pass first), one `Polylidar` kept \
-         across the stream, the frame already in memory. Stage columns are medians over the \
+         across the stream and each frame's extraction handed back with `Polylidar::recycle` \
+         (the next frame is meshed into its arrays), the frame already in memory. Stage columns are medians over the \
          stream (ms); `fill` is rgbd-auto's filling of missing returns, `decimate` the `rgbd` preset's \
          merging of 2 × 2 pixel blocks at 640 × 480 and 848 × 480 (its other stages then run on \
          the 320 × 240 and 424 × 240 grids) and, in the rows on the paper's grid, of blocks \
