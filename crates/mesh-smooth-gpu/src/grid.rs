@@ -205,14 +205,11 @@ impl SlotNormals {
     /// triangles of present slots 0, 1, 2, … in slot order, as `opc_mesh` builds it (see
     /// [`in_slot_order`]).
     fn in_slot_order(&self, triangle_map: &[u32], num_triangles: usize) -> Option<Vec<[f64; 3]>> {
-        in_slot_order(triangle_map, num_triangles, |chunk, map, first, part| {
+        in_slot_order(triangle_map, num_triangles, |chunk, map, gather| {
             let normals = &self.normals[chunk * SLOT_CHUNK..][..map.len()];
-            let (mut next, mut valid) = (0, true);
             for (&n, &t) in normals.iter().zip(map) {
-                let present = !n[0].is_nan();
-                gather_mapped((n, present, t), first, part, &mut next, &mut valid);
+                gather.slot(n, !n[0].is_nan(), t);
             }
-            valid
         })
     }
 }
@@ -224,14 +221,13 @@ impl SlotNormals {
 /// then checks it and names what is wrong).
 ///
 /// Two parallel passes over chunks of [`SLOT_CHUNK`] slots: one counts each chunk's mapped
-/// slots; in the other, `gather(chunk, map, first, part)` puts the widened normals of
-/// chunk `chunk`'s mapped slots (`map` its part of the map) into its part of the output,
-/// in order, and says whether they hold the triangles `first`, `first + 1`, … and are
-/// present (see [`gather_mapped`]); they are then renormalised there.
+/// slots; in the other, `gather(chunk, map, gather)` hands [`Gather::slot`] every slot of
+/// chunk `chunk` (`map` its part of the map) in order, and the gathered normals are then
+/// renormalised.
 pub(crate) fn in_slot_order(
     triangle_map: &[u32],
     num_triangles: usize,
-    gather: impl Fn(usize, &[u32], usize, &mut [[f64; 3]]) -> bool + Sync,
+    gather: impl Fn(usize, &[u32], &mut Gather<'_>) + Sync,
 ) -> Option<Vec<[f64; 3]>> {
     let counts: Vec<usize> = triangle_map
         .par_chunks(SLOT_CHUNK)
@@ -248,43 +244,55 @@ pub(crate) fn in_slot_order(
     let (mut rest, mut first) = (out.as_mut_slice(), 0);
     for count in counts {
         let (part, tail) = rest.split_at_mut(count);
-        parts.push((first, part));
+        parts.push(Gather {
+            part,
+            first,
+            next: 0,
+            valid: true,
+        });
         (rest, first) = (tail, first + count);
     }
     let valid = parts
         .into_par_iter()
         .zip(triangle_map.par_chunks(SLOT_CHUNK))
         .enumerate()
-        .map(|(chunk, ((first, part), map))| {
-            let valid = gather(chunk, map, first, part);
-            renormalize(part);
-            valid
+        .map(|(chunk, (mut part, map))| {
+            gather(chunk, map, &mut part);
+            renormalize(part.part);
+            part.valid
         })
         .all(|valid| valid);
     valid.then_some(out)
 }
 
-/// The step of [`in_slot_order`]'s `gather` for one slot: the slot's normal `normal`,
-/// whether its triangle is `present`, its map entry `t`. Writes the widened normal at
-/// `next` of `part` (the chunk's share of the output) and moves `next` on when the slot
-/// is mapped; clears `valid` when it is mapped to anything but triangle `first + next`
-/// or is missing. Branch-free but for the end of `part` (past its last triangle, missing
-/// slots are not written): noisy depth frames mix missing and present slots at random,
-/// where branches would mostly mispredict.
-#[inline(always)]
-pub(crate) fn gather_mapped(
-    (normal, present, t): ([f32; 3], bool, u32),
+/// One chunk's share of [`in_slot_order`]'s output, filled slot by slot.
+pub(crate) struct Gather<'a> {
+    /// The widened normals of the chunk's mapped slots, in order.
+    part: &'a mut [[f64; 3]],
+    /// The triangle of the chunk's first mapped slot.
     first: usize,
-    part: &mut [[f64; 3]],
-    next: &mut usize,
-    valid: &mut bool,
-) {
-    let mapped = t != NO_TRIANGLE;
-    *valid &= !mapped | ((t as usize == first + *next) & present);
-    if let Some(slot) = part.get_mut(*next) {
-        *slot = normal.map(f64::from);
+    /// Mapped slots seen so far.
+    next: usize,
+    /// Whether every mapped slot so far is present and holds triangle `first + next`.
+    valid: bool,
+}
+
+impl Gather<'_> {
+    /// The chunk's next slot: its normal, whether its triangle is `present`, its map
+    /// entry `t`. The widened normal is written at `next`, which moves on when the slot
+    /// is mapped; a slot mapped to anything but triangle `first + next`, or mapped but
+    /// missing, makes the chunk invalid. Branch-free but for the end of the part (past
+    /// its last triangle, missing slots are not written): noisy depth frames mix missing
+    /// and present slots at random, where branches would mostly mispredict.
+    #[inline(always)]
+    pub(crate) fn slot(&mut self, normal: [f32; 3], present: bool, t: u32) {
+        let mapped = t != NO_TRIANGLE;
+        self.valid &= !mapped | ((t as usize == self.first + self.next) & present);
+        if let Some(slot) = self.part.get_mut(self.next) {
+            *slot = normal.map(f64::from);
+        }
+        self.next += usize::from(mapped);
     }
-    *next += usize::from(mapped);
 }
 
 /// Checks that a mesh was built from a cloud of `rows × cols` points.

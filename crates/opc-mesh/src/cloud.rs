@@ -156,10 +156,11 @@ impl OrganizedPointCloud {
     }
 }
 
-/// Whether a point is valid: all three coordinates finite.
+/// Whether a point is valid: all three coordinates finite. Without short-circuits, so
+/// that loops calling it stay branch-free and vectorise.
 #[inline]
 pub fn is_valid(p: &[f64; 3]) -> bool {
-    p[0].is_finite() && p[1].is_finite() && p[2].is_finite()
+    p[0].is_finite() & p[1].is_finite() & p[2].is_finite()
 }
 
 /// Checks that `len` points fill a `rows × cols` grid that a mesh can index with `u32`.

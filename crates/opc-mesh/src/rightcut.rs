@@ -18,7 +18,7 @@ use halfedge_mesh::{NO_TWIN, cross_normal};
 use rayon::prelude::*;
 
 use crate::triangle_map::{NO_TRIANGLE, TriangleMap};
-use crate::{OpcError, OpcMeshOptions, OrganizedPointCloudView};
+use crate::{OpcError, OpcMeshOptions, OrganizedPointCloudView, is_valid};
 
 /// Storage for the mesh arrays: empty vectors for a new mesh, or the arrays of an earlier
 /// mesh to write over.
@@ -66,13 +66,6 @@ fn normalisable(len2: f64) -> bool {
     (f64::MIN_POSITIVE..f64::INFINITY).contains(&len2)
 }
 
-/// Whether a point is valid, without the short-circuits of [`crate::is_valid`] that keep a loop
-/// scalar.
-#[inline(always)]
-fn finite(p: [f64; 3]) -> bool {
-    p[0].is_finite() & p[1].is_finite() & p[2].is_finite()
-}
-
 /// Pass 1 for one cell row: classes of its cells, and their triangle count. Branch-free,
 /// so that it vectorises where the CPU allows.
 #[multiversion::multiversion(targets("x86_64+avx512f+avx512vl+avx512bw+avx512dq", "x86_64+avx2"))]
@@ -82,9 +75,9 @@ fn classify_row(top: &[[f64; 3]], bottom: &[[f64; 3]], classes: &mut [u8]) -> u3
     let mut total = 0;
     for v in 0..n {
         let (p1, p2, p3, p4) = (top[v], top[v + 1], bottom[v + 1], bottom[v]);
-        let diagonal = finite(p1) & finite(p3);
-        let first = diagonal & finite(p2) & normalisable(normal_of(p3, p2, p1).1);
-        let second = diagonal & finite(p4) & normalisable(normal_of(p1, p4, p3).1);
+        let diagonal = is_valid(&p1) & is_valid(&p3);
+        let first = diagonal & is_valid(&p2) & normalisable(normal_of(p3, p2, p1).1);
+        let second = diagonal & is_valid(&p4) & normalisable(normal_of(p1, p4, p3).1);
         classes[v] = (u8::from(first) * FIRST) | (u8::from(second) * SECOND);
         total += u32::from(first) + u32::from(second);
     }

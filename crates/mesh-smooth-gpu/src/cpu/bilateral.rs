@@ -6,7 +6,7 @@ use rayon::prelude::*;
 
 use super::{PlaneSet, Planes, exp_neg, fma, min_rows_per_task};
 use crate::BilateralOptions;
-use crate::grid::{SLOT_CHUNK, TRIANGLES_PER_CELL, gather_mapped, in_slot_order};
+use crate::grid::{SLOT_CHUNK, TRIANGLES_PER_CELL, in_slot_order};
 
 /// x, y, z planes, indexed by cell `r · (cols − 1) + c`.
 type Xyz<'a> = [&'a [f32]; 3];
@@ -87,21 +87,17 @@ impl Filtered<'_> {
         if triangle_map.len() != slots {
             return None;
         }
-        in_slot_order(triangle_map, num_triangles, |chunk, map, first, part| {
+        in_slot_order(triangle_map, num_triangles, |chunk, map, gather| {
             // Chunks hold whole cells (an even number of slots).
-            let cells = chunk * SLOT_CHUNK / TRIANGLES_PER_CELL..;
-            let cells = cells.start..cells.start + map.len() / TRIANGLES_PER_CELL;
+            let start = chunk * SLOT_CHUNK / TRIANGLES_PER_CELL;
+            let cells = start..start + map.len() / TRIANGLES_PER_CELL;
             let [x0, y0, z0] = self.normals[0].map(|p| &p[cells.clone()]);
             let [x1, y1, z1] = self.normals[1].map(|p| &p[cells.clone()]);
             let [m0, m1] = self.masks.map(|m| &m[cells.clone()]);
-            let (mut next, mut valid) = (0, true);
             for (c, pair) in map.chunks_exact(TRIANGLES_PER_CELL).enumerate() {
-                let first_type = ([x0[c], y0[c], z0[c]], m0[c] > 0.0, pair[0]);
-                gather_mapped(first_type, first, part, &mut next, &mut valid);
-                let second_type = ([x1[c], y1[c], z1[c]], m1[c] > 0.0, pair[1]);
-                gather_mapped(second_type, first, part, &mut next, &mut valid);
+                gather.slot([x0[c], y0[c], z0[c]], m0[c] > 0.0, pair[0]);
+                gather.slot([x1[c], y1[c], z1[c]], m1[c] > 0.0, pair[1]);
             }
-            valid
         })
     }
 }
@@ -713,9 +709,9 @@ fn copy_borders(
 /// Turns the weighted sums `a` of the interior cells from `own` into unit normals;
 /// a missing triangle, or one whose sum vanishes, keeps its normal. A sum is first
 /// scaled, exactly, by the power of two that brings its largest component into
-/// [0.5, 1), so that the squares of small sums (weights near
-/// [`super::fast_exp::EXP_NEG_CUTOFF`]) stay normal `f32` numbers, as on the GPU; then
-/// one square root and one division serve all three components.
+/// [0.5, 1) (a subnormal one to at least 2^-23), so that the squares of small sums
+/// (weights near [`super::fast_exp::EXP_NEG_CUTOFF`]) stay normal `f32` numbers, as on
+/// the GPU; then one square root and one division serve all three components.
 #[inline(always)]
 fn normalize(a: [&mut [f32]; 3], own: usize, normals: &Xyz<'_>, mask: &[f32]) {
     let [ax, ay, az] = a;

@@ -85,7 +85,8 @@ fn fill_row(row: &[[f64; 3]], [x, y, z, m]: [&mut [f32]; 4]) {
     let len = row.len();
     let (x, y, z, m) = (&mut x[..len], &mut y[..len], &mut z[..len], &mut m[..len]);
     for (i, p) in row.iter().enumerate() {
-        // `opc_mesh::is_valid` without short-circuits, which keep the loop scalar.
+        // `opc_mesh::is_valid` written out: called across the crate boundary, it leaves
+        // this loop scalar.
         let valid = p[0].is_finite() & p[1].is_finite() & p[2].is_finite();
         x[i] = if valid { p[0] as f32 } else { 0.0 };
         y[i] = if valid { p[1] as f32 } else { 0.0 };
