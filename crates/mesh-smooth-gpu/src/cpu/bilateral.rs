@@ -583,56 +583,64 @@ fn output_row<const TERMS: usize>(
         let [x, y, z] = normals[kn].each_ref().map(|n| span(n, q, len));
         [w(0), w(1), x, y, z]
     });
-    let blocked = terms.map(|t| t.map(|s| s.as_chunks::<BLOCK>().0));
-    let rests = terms.map(|t| t.map(|s| &s[blocks * BLOCK..]));
-    let [[a0x, a0y, a0z], [a1x, a1y, a1z]] = out
-        .each_mut()
-        .map(|planes| planes.each_mut().map(|o| &mut o[half..half + len]));
-    let sums = [a0x, a0y, a0z, a1x, a1y, a1z].map(|a| a.as_chunks_mut::<BLOCK>());
-    let [
-        (s0x, r0x),
-        (s0y, r0y),
-        (s0z, r0z),
-        (s1x, r1x),
-        (s1y, r1y),
-        (s1z, r1z),
-    ] = sums;
-    for b in 0..blocks {
-        let mut acc = [[0.0f32; BLOCK]; 6];
-        for [w0, w1, qx, qy, qz] in &blocked {
-            let (w0, w1, qx, qy, qz) = (&w0[b], &w1[b], &qx[b], &qy[b], &qz[b]);
-            for i in 0..BLOCK {
-                acc[0][i] = fma(w0[i], qx[i], acc[0][i]);
-                acc[1][i] = fma(w0[i], qy[i], acc[1][i]);
-                acc[2][i] = fma(w0[i], qz[i], acc[2][i]);
-                acc[3][i] = fma(w1[i], qx[i], acc[3][i]);
-                acc[4][i] = fma(w1[i], qy[i], acc[4][i]);
-                acc[5][i] = fma(w1[i], qz[i], acc[5][i]);
-            }
+    let mut sums = {
+        let [[a0x, a0y, a0z], [a1x, a1y, a1z]] = out
+            .each_mut()
+            .map(|planes| planes.each_mut().map(|o| &mut o[half..half + len]));
+        [a0x, a0y, a0z, a1x, a1y, a1z]
+    };
+    {
+        let blocked = terms.map(|t| t.map(|s| s.as_chunks::<BLOCK>().0));
+        let [s0x, s0y, s0z, s1x, s1y, s1z] = sums.each_mut().map(|a| a.as_chunks_mut().0);
+        for b in 0..blocks {
+            [s0x[b], s0y[b], s0z[b], s1x[b], s1y[b], s1z[b]] = term_sums(&blocked, b);
         }
-        [s0x[b], s0y[b], s0z[b], s1x[b], s1y[b], s1z[b]] = acc;
     }
-    let rest = r0x.len();
-    let mut tails = [r0x, r0y, r0z, r1x, r1y, r1z].map(|t| &mut t[..rest]);
-    for t in &mut tails {
-        t.fill(0.0);
-    }
-    let [t0x, t0y, t0z, t1x, t1y, t1z] = tails;
-    for [w0, w1, qx, qy, qz] in &rests {
-        let [w0, w1, qx, qy, qz] = [w0, w1, qx, qy, qz].map(|t| &t[..rest]);
-        for i in 0..rest {
-            t0x[i] = fma(w0[i], qx[i], t0x[i]);
-            t0y[i] = fma(w0[i], qy[i], t0y[i]);
-            t0z[i] = fma(w0[i], qz[i], t0z[i]);
-            t1x[i] = fma(w1[i], qx[i], t1x[i]);
-            t1y[i] = fma(w1[i], qy[i], t1y[i]);
-            t1z[i] = fma(w1[i], qz[i], t1z[i]);
+    if len % BLOCK != 0 {
+        if blocks > 0 {
+            // The last `BLOCK` cells once more: the same bits where they overlap.
+            // Blocks counted from the row's end: its last one ends with the row.
+            let from_end = terms.map(|t| t.map(|s| s.as_rchunks::<BLOCK>().1));
+            for (s, a) in sums.iter_mut().zip(term_sums(&from_end, blocks - 1)) {
+                s.as_rchunks_mut().1[blocks - 1] = a;
+            }
+        } else {
+            let cells = terms.map(|t| t.map(|s| s.as_chunks::<1>().0));
+            for i in 0..len {
+                for (s, [a]) in sums.iter_mut().zip(term_sums(&cells, i)) {
+                    s[i] = a;
+                }
+            }
         }
     }
     for (ko, planes) in out.iter_mut().enumerate() {
         let [ax, ay, az] = planes.each_mut().map(|o| &mut o[half..half + len]);
         normalize([ax, ay, az], own, &normals[ko], types[ko].mask);
     }
+}
+
+/// The sums of the `N` cells in step `at` of the terms, each term given (in steps of `N`
+/// cells) as the weights of the cells' type-0 and type-1 triangles with a neighbour and
+/// that neighbour's normal x, y, z: the weighted normals of type 0 (x, y, z), then of
+/// type 1. They stay in registers across the terms.
+#[inline(always)]
+fn term_sums<const N: usize, const TERMS: usize>(
+    terms: &[[&[[f32; N]]; 5]; TERMS],
+    at: usize,
+) -> [[f32; N]; 6] {
+    let mut acc = [[0.0f32; N]; 6];
+    for [w0, w1, qx, qy, qz] in terms {
+        let (w0, w1, qx, qy, qz) = (&w0[at], &w1[at], &qx[at], &qy[at], &qz[at]);
+        for i in 0..N {
+            acc[0][i] = fma(w0[i], qx[i], acc[0][i]);
+            acc[1][i] = fma(w0[i], qy[i], acc[1][i]);
+            acc[2][i] = fma(w0[i], qz[i], acc[2][i]);
+            acc[3][i] = fma(w1[i], qx[i], acc[3][i]);
+            acc[4][i] = fma(w1[i], qy[i], acc[4][i]);
+            acc[5][i] = fma(w1[i], qz[i], acc[5][i]);
+        }
+    }
+    acc
 }
 
 /// [`output_row`] with each weight computed where it is used: the filter's definition,
@@ -777,7 +785,8 @@ mod tests {
 
     /// Bands of every start and size, with the weights shared between rows and types,
     /// give the bits of the direct computation, row by row, for every kernel that
-    /// shares weights and grids narrower and wider than the kernel.
+    /// shares weights and grids narrower and wider than the kernel, and rows shorter
+    /// than, a multiple of and between multiples of [`BLOCK`].
     #[test]
     fn bands_match_the_direct_computation() {
         for (rows, cols, half) in [
@@ -788,6 +797,10 @@ mod tests {
             (11, 17, 3),
             (7, 75, 1),
             (8, 70, 3),
+            (7, 34, 1),
+            (6, 45, 2),
+            (5, 18, 1),
+            (6, 16, 1),
         ] {
             let cells = Cells { rows, cols, half };
             let data = random_planes(cells, (rows * cols) as u64);
