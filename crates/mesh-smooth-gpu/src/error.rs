@@ -100,4 +100,7 @@ pub enum SmoothError {
         /// What wgpu reported.
         reason: String,
     },
+    /// The filtered points did not make a cloud of the input's shape.
+    #[error("the filtered cloud is invalid: {0}")]
+    Cloud(#[from] opc_mesh::OpcError),
 }

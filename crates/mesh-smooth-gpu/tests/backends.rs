@@ -1,5 +1,5 @@
 //! `CpuSmoother::serial` and `CpuSmoother::new` (the rayon pool) give bit-identical results
-//! at any thread count.
+//! at any thread count, filtering into a copy or in place.
 #![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
 
 mod common;
@@ -31,11 +31,20 @@ proptest! {
             .with_lambda(lambda)
             .with_iterations(iterations);
         let cpu = CpuSmoother::serial().laplacian(&cloud, &options).expect("valid options");
+        // The copy is written in one pass of its own: it matches the in-place filter.
+        let mut in_place = cloud.clone();
+        CpuSmoother::serial().laplacian_in_place(&mut in_place, &options).expect("valid options");
+        prop_assert_eq!(bits(cpu.points()), bits(in_place.points()));
         for threads in [1, 3, 4] {
             let parallel = pool(threads)
                 .install(|| mesh_smooth_gpu::laplacian_filter(&cloud, &options))
                 .expect("valid options");
             prop_assert_eq!(bits(cpu.points()), bits(parallel.points()));
+            let mut in_place = cloud.clone();
+            pool(threads)
+                .install(|| CpuSmoother::new().laplacian_in_place(&mut in_place, &options))
+                .expect("valid options");
+            prop_assert_eq!(bits(cpu.points()), bits(in_place.points()));
         }
     }
 

@@ -33,6 +33,80 @@ pub(crate) fn laplacian_in_place(
     passes: Passes<'_>,
     parallel: bool,
 ) {
+    let Some(filtered) = filter(work, cloud, options, passes, parallel) else {
+        return;
+    };
+    let cols = cloud.cols();
+    cloud
+        .points_mut()
+        .par_chunks_mut(cols)
+        .enumerate()
+        .with_min_len(min_rows_per_task(parallel))
+        .for_each(|(r, points)| {
+            for (i, p) in (r * cols..).zip(points) {
+                if let Some(q) = filtered.point(i) {
+                    *p = q;
+                }
+            }
+        });
+}
+
+/// The filtered copy of `cloud`, as [`laplacian_in_place`] would leave it, written in one
+/// pass (the filtered points from the planes, the others from `cloud`).
+pub(crate) fn laplacian_copy(
+    work: &mut LaplacianWork,
+    cloud: &OrganizedPointCloud,
+    options: &LaplacianOptions,
+    passes: Passes<'_>,
+    parallel: bool,
+) -> Vec<[f64; 3]> {
+    let source = cloud.points();
+    let mut out = Vec::with_capacity(source.len());
+    let Some(filtered) = filter(work, cloud, options, passes, parallel) else {
+        out.extend_from_slice(source);
+        return out;
+    };
+    let point = |i: usize| filtered.point(i).unwrap_or(source[i]);
+    if parallel {
+        let rows = min_rows_per_task(parallel) * cloud.cols();
+        out.par_extend(
+            (0..source.len())
+                .into_par_iter()
+                .with_min_len(rows)
+                .map(point),
+        );
+    } else {
+        out.extend((0..source.len()).map(point));
+    }
+    out
+}
+
+/// The filtered points where [`filter`] left them: its last pass's planes.
+struct Filtered<'a> {
+    x: &'a [f32],
+    y: &'a [f32],
+    z: &'a [f32],
+    /// Σ w of the last pass, > 0 exactly where a pixel was filtered.
+    weight_sums: &'a [f32],
+}
+
+impl Filtered<'_> {
+    /// Point `i` widened, `None` where the filter left it as it was.
+    #[inline]
+    fn point(&self, i: usize) -> Option<[f64; 3]> {
+        (self.weight_sums[i] > 0.0).then(|| [self.x[i], self.y[i], self.z[i]].map(f64::from))
+    }
+}
+
+/// Runs the passes on `cloud`'s points in `work`'s planes; `None` where nothing is
+/// filtered (no pass, or a grid within the kernel).
+fn filter<'a>(
+    work: &'a mut LaplacianWork,
+    cloud: &OrganizedPointCloud,
+    options: &LaplacianOptions,
+    passes: Passes<'_>,
+    parallel: bool,
+) -> Option<Filtered<'a>> {
     let (rows, cols) = (cloud.rows(), cloud.cols());
     let half = (options.kernel / 2) as usize;
     let (iterations, limits) = match passes {
@@ -40,7 +114,7 @@ pub(crate) fn laplacian_in_place(
         Passes::PerPixel(p) => (u32::from(p.iter().copied().max().unwrap_or(0)), Some(p)),
     };
     if iterations == 0 || rows <= 2 * half || cols <= 2 * half {
-        return;
+        return None;
     }
     // The largest count per row: rows whose pixels are all done are copied.
     let row_limits: Vec<u8> = limits.map_or_else(Vec::new, |p| {
@@ -108,21 +182,13 @@ pub(crate) fn laplacian_in_place(
             });
         std::mem::swap(&mut current, &mut next);
     }
-    let [x, y, z] = &current;
-    let weight_sums = &*weight_sums;
-    cloud
-        .points_mut()
-        .par_chunks_mut(cols)
-        .enumerate()
-        .with_min_len(min_rows_per_task(parallel))
-        .for_each(|(r, points)| {
-            let first = r * cols;
-            for (i, p) in (first..).zip(points) {
-                if weight_sums[i] > 0.0 {
-                    *p = [f64::from(x[i]), f64::from(y[i]), f64::from(z[i])];
-                }
-            }
-        });
+    let [x, y, z] = current;
+    Some(Filtered {
+        x,
+        y,
+        z,
+        weight_sums,
+    })
 }
 
 /// The previous pass's planes.

@@ -3,7 +3,7 @@
 use opc_mesh::{OpcMesh, OrganizedPointCloud};
 
 use super::bilateral::{BilateralWork, bilateral};
-use super::laplacian::{LaplacianWork, Passes, laplacian_in_place};
+use super::laplacian::{LaplacianWork, Passes, laplacian_copy, laplacian_in_place};
 use crate::{BilateralOptions, LaplacianOptions, SlotNormals, SmoothError, Smoother};
 
 /// The CPU backend, on the current rayon thread pool ([`CpuSmoother::new`]) or on one
@@ -79,9 +79,14 @@ impl CpuSmoother {
         cloud: &OrganizedPointCloud,
         options: &LaplacianOptions,
     ) -> Result<OrganizedPointCloud, SmoothError> {
-        let mut out = cloud.clone();
-        self.laplacian_in_place(&mut out, options)?;
-        Ok(out)
+        options.validate()?;
+        let passes = Passes::Uniform(options.iterations);
+        let points = laplacian_copy(&mut self.laplacian, cloud, options, passes, self.parallel);
+        Ok(OrganizedPointCloud::new(
+            cloud.rows(),
+            cloud.cols(),
+            points,
+        )?)
     }
 
     /// The Laplacian filter, overwriting the filtered points of `cloud`.
