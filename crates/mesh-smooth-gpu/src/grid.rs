@@ -24,6 +24,8 @@
 //! [`SlotNormals::apply_to_opc_mesh`] hands filtered normals to such a mesh, and
 //! [`SlotNormals::for_triangle_map`] takes any slot → triangle map.
 
+use std::mem::MaybeUninit;
+
 use opc_mesh::OpcMesh;
 use rayon::prelude::*;
 
@@ -222,8 +224,7 @@ impl SlotNormals {
 ///
 /// Two parallel passes over chunks of [`SLOT_CHUNK`] slots: one counts each chunk's mapped
 /// slots; in the other, `gather(chunk, map, gather)` hands [`Gather::slot`] every slot of
-/// chunk `chunk` (`map` its part of the map) in order, and the gathered normals are then
-/// renormalised.
+/// chunk `chunk` (`map` its part of the map) in order, which writes the output.
 pub(crate) fn in_slot_order(
     triangle_map: &[u32],
     num_triangles: usize,
@@ -236,12 +237,11 @@ pub(crate) fn in_slot_order(
     if counts.iter().sum::<usize>() != num_triangles {
         return None;
     }
-    // Filled from several threads, so that the first touch of its pages is spread over
-    // them (`vec!` would zero it all on this one), then written over.
+    // Written straight into its spare capacity, chunk by chunk, from several threads:
+    // no pass that only initialises it.
     let mut out = Vec::with_capacity(num_triangles);
-    out.par_extend(rayon::iter::repeat_n([0.0; 3], num_triangles));
     let mut parts = Vec::with_capacity(counts.len());
-    let (mut rest, mut first) = (out.as_mut_slice(), 0);
+    let (mut rest, mut first) = (&mut out.spare_capacity_mut()[..num_triangles], 0);
     for count in counts {
         let (part, tail) = rest.split_at_mut(count);
         parts.push(Gather {
@@ -258,17 +258,28 @@ pub(crate) fn in_slot_order(
         .enumerate()
         .map(|(chunk, (mut part, map))| {
             gather(chunk, map, &mut part);
-            renormalize(part.part);
             part.valid
         })
         .all(|valid| valid);
-    valid.then_some(out)
+    if !valid {
+        return None;
+    }
+    #[allow(unsafe_code)]
+    // SAFETY: the parts cover the first `num_triangles` elements of the spare capacity,
+    // and every part is valid: each of its mapped slots held the triangle `first + next`
+    // as `next` ran from 0 to the part's count (the number of mapped slots its chunk of
+    // the map has), and each such slot wrote element `next` (`Gather::slot`). So every
+    // element is initialised.
+    unsafe {
+        out.set_len(num_triangles);
+    }
+    Some(out)
 }
 
 /// One chunk's share of [`in_slot_order`]'s output, filled slot by slot.
 pub(crate) struct Gather<'a> {
-    /// The widened normals of the chunk's mapped slots, in order.
-    part: &'a mut [[f64; 3]],
+    /// The unit `f64` normals of the chunk's mapped slots, in order (written as they come).
+    part: &'a mut [MaybeUninit<[f64; 3]>],
     /// The triangle of the chunk's first mapped slot.
     first: usize,
     /// Mapped slots seen so far.
@@ -279,17 +290,18 @@ pub(crate) struct Gather<'a> {
 
 impl Gather<'_> {
     /// The chunk's next slot: its normal, whether its triangle is `present`, its map
-    /// entry `t`. The widened normal is written at `next`, which moves on when the slot
-    /// is mapped; a slot mapped to anything but triangle `first + next`, or mapped but
-    /// missing, makes the chunk invalid. Branch-free but for the end of the part (past
-    /// its last triangle, missing slots are not written): noisy depth frames mix missing
-    /// and present slots at random, where branches would mostly mispredict.
+    /// entry `t`. The normal, widened and renormalised ([`to_unit_f64`]), is written at
+    /// `next`, which moves on when the slot is mapped; a slot mapped to anything but
+    /// triangle `first + next`, or mapped but missing, makes the chunk invalid.
+    /// Branch-free but for the end of the part (past its last triangle, missing slots are
+    /// not written): noisy depth frames mix missing and present slots at random, where
+    /// branches would mostly mispredict.
     #[inline(always)]
     pub(crate) fn slot(&mut self, normal: [f32; 3], present: bool, t: u32) {
         let mapped = t != NO_TRIANGLE;
         self.valid &= !mapped | ((t as usize == self.first + self.next) & present);
         if let Some(slot) = self.part.get_mut(self.next) {
-            *slot = normal.map(f64::from);
+            slot.write(to_unit_f64(normal));
         }
         self.next += usize::from(mapped);
     }
@@ -323,27 +335,14 @@ pub(crate) fn set_mesh_normals(
 /// Slots per task of [`in_slot_order`].
 pub(crate) const SLOT_CHUNK: usize = 1 << 15;
 
-/// Renormalises widened unit normals in `f64` (see [`to_unit_f64`]), vectorised where the
-/// CPU allows.
-#[multiversion::multiversion(targets("x86_64+avx512f+avx512vl+avx512bw+avx512dq", "x86_64+avx2"))]
-fn renormalize(normals: &mut [[f64; 3]]) {
-    for n in normals {
-        *n = unit_f64(*n);
-    }
-}
-
 /// Widens a unit `f32` normal and renormalises it in `f64` (zero stays zero). This runs
 /// for every triangle: for a normal of squared length `1 + δ` within 1e-4 of 1 (every
 /// filtered normal; `f32` rounding leaves δ near 1e-7), the factor `1/√(1 + δ)` is its
 /// series `1 − δ/2 + 3δ²/8`, whose error (below δ³/3, about 1e-22) lies far under the
 /// `f64` rounding, with neither square root nor division.
-fn to_unit_f64(n: [f32; 3]) -> [f64; 3] {
-    unit_f64(n.map(f64::from))
-}
-
-/// [`to_unit_f64`] of a normal already widened.
 #[inline(always)]
-fn unit_f64(v: [f64; 3]) -> [f64; 3] {
+fn to_unit_f64(n: [f32; 3]) -> [f64; 3] {
+    let v = n.map(f64::from);
     let len2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
     let delta = len2 - 1.0;
     let factor = if delta.abs() < 1e-4 {
