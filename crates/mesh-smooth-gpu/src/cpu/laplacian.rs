@@ -125,9 +125,12 @@ fn filter<'a>(
     work.planes.resize(cloud.points().len());
     let [x, y, z, m, nx, ny, nz, weight_sums] = work.planes.planes_mut();
     fill_planes(cloud.points(), cols, parallel, [x, y, z, m]);
-    // A pixel is written back if the kernel filtered it in its last pass; rows skipped
-    // from the first pass on are never written.
-    weight_sums.fill(0.0);
+    // A pixel is written back if the kernel filtered it in its last pass. Every pass
+    // writes every row's sums but for the rows that per-pixel counts skip from the first
+    // pass on, which are never written.
+    if limits.is_some() {
+        weight_sums.fill(0.0);
+    }
     let grid = Grid {
         rows,
         cols,
