@@ -127,16 +127,27 @@ impl Polylidar {
             // The bilateral filter replaces every triangle normal: meshing skips them then.
             let options = OpcMeshOptions::new().with_compute_normals(config.bilateral.is_none());
             let mut laplacian_iterations = 0;
-            let opc = match (&config.laplacian, &config.bilateral, &mut cloud) {
-                (Some(l), Some(b), Some(c))
+            let opc = match (&config.laplacian, &config.bilateral, cloud.take()) {
+                (Some(l), Some(b), Some(mut c))
                     if l.backend == SmoothingBackend::Gpu && b.backend == SmoothingBackend::Gpu =>
                 {
                     let (iterations, opc) =
-                        smooth_on_gpu(&mut reuse, l, b, c, &options, &mut timings)?;
+                        smooth_on_gpu(&mut reuse, l, b, &mut c, &options, &mut timings)?;
+                    cloud = Some(c);
                     laplacian_iterations = iterations;
                     opc
                 }
-                _ => {
+                (Some(l), Some(b), Some(c))
+                    if l.backend == b.backend && b.backend != SmoothingBackend::Gpu =>
+                {
+                    let (iterations, opc, smoothed) =
+                        smooth_on_cpu(&mut reuse, l, b, c, &options, &mut timings)?;
+                    cloud = Some(smoothed);
+                    laplacian_iterations = iterations;
+                    opc
+                }
+                (_, _, taken) => {
+                    cloud = taken;
                     if let (Some(l), Some(c)) = (&config.laplacian, &mut cloud) {
                         laplacian_iterations =
                             timings.time("laplacian", || laplacian(&mut reuse, l, c))?;
@@ -394,6 +405,40 @@ fn smooth_on_gpu(
     timings.record("mesh", meshing);
     timings.record("bilateral", start.elapsed() - at - meshing);
     Ok((iterations, opc))
+}
+
+/// Both filters on one CPU smoother with meshing in between
+/// ([`mesh_smooth_gpu::CpuSmoother::laplacian_smoothed`]: the bilateral filter starts
+/// from the Laplacian's `f32` planes). Records the `laplacian`, `mesh` and `bilateral`
+/// stages; returns the Laplacian passes, the mesh and the smoothed cloud (`cloud` itself
+/// when no pass runs).
+fn smooth_on_cpu<'a>(
+    reuse: &mut reuse::Reusable,
+    l: &LaplacianConfig,
+    b: &BilateralConfig,
+    cloud: Cow<'a, OrganizedPointCloud>,
+    options: &OpcMeshOptions,
+    timings: &mut Timings,
+) -> Result<(u32, OpcMesh, Cow<'a, OrganizedPointCloud>), PolylidarError> {
+    let storage = reuse.mesh_storage();
+    let start = Instant::now();
+    let (iterations, passes) = laplacian_passes(l, &cloud);
+    if iterations == 0 {
+        timings.record("laplacian", start.elapsed());
+        let mut opc = timings.time("mesh", || cloud.mesh_reusing(options, storage))?;
+        timings.time("bilateral", || {
+            reuse.bilateral(b.backend, &cloud, &b.options(), &mut opc)
+        })?;
+        return Ok((0, opc, cloud));
+    }
+    let cpu = reuse.cpu(l.backend);
+    let mut smoothed = cpu.laplacian_smoothed(cloud, &l.options(iterations), passes.as_deref())?;
+    timings.record("laplacian", start.elapsed());
+    let mut opc = timings.time("mesh", || smoothed.cloud().mesh_reusing(options, storage))?;
+    timings.time("bilateral", || {
+        smoothed.bilateral_into_mesh(&b.options(), &mut opc)
+    })?;
+    Ok((iterations, opc, Cow::Owned(smoothed.into_cloud())))
 }
 
 /// Runs the Laplacian filter `l` on `cloud` (in place when it is owned), returning the

@@ -63,7 +63,7 @@ impl Reusable {
 
     /// The kept CPU smoother: one thread for [`SmoothingBackend::Cpu`], the pool
     /// otherwise.
-    fn cpu(&mut self, backend: SmoothingBackend) -> &mut CpuSmoother {
+    pub fn cpu(&mut self, backend: SmoothingBackend) -> &mut CpuSmoother {
         let parallel = backend != SmoothingBackend::Cpu;
         self.smoothers[usize::from(parallel)].get_or_insert_with(|| match parallel {
             true => CpuSmoother::new(),

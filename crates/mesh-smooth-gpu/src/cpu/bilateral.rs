@@ -24,11 +24,17 @@ struct TypeView<'a> {
     mask: &'a [f32],
 }
 
-/// Reusable buffers of the bilateral filter, each plane at its own offset modulo 4 KiB
-/// (the kernels stream through up to 13 of them at once).
+/// Reusable buffers of the bilateral filter: the cloud's point planes and the rest.
 #[derive(Default)]
 pub(crate) struct BilateralWork {
     planes: Planes,
+    pub(crate) passes: PassWork,
+}
+
+/// The bilateral filter's buffers after the point planes, each plane at its own offset
+/// modulo 4 KiB (the kernels stream through up to 13 of them at once).
+#[derive(Default)]
+pub(crate) struct PassWork {
     /// Per triangle type `k`, its [`TYPE_PLANES`] planes from plane `7k` on.
     types: PlaneSet<{ 2 * TYPE_PLANES }>,
     /// The filtered normals (type 0 x, y, z, then type 1) of the odd passes and the even
@@ -110,13 +116,23 @@ pub(crate) fn bilateral<'a>(
     parallel: bool,
 ) -> Filtered<'a> {
     let (rows, cols) = (cloud.rows(), cloud.cols());
-    let BilateralWork {
-        planes,
-        types,
-        odd,
-        even,
-    } = work;
+    let BilateralWork { planes, passes } = work;
     planes.fill(cloud.points(), cols, parallel);
+    let points = [&planes.x, &planes.y, &planes.z, &planes.m].map(Vec::as_slice);
+    bilateral_of_planes(passes, points, rows, cols, options, parallel)
+}
+
+/// [`bilateral`] of a `rows × cols` cloud given as its `f32` point planes x, y, z and
+/// mask (see [`Planes`]).
+pub(crate) fn bilateral_of_planes<'a>(
+    work: &'a mut PassWork,
+    points: [&[f32]; 4],
+    rows: usize,
+    cols: usize,
+    options: &BilateralOptions,
+    parallel: bool,
+) -> Filtered<'a> {
+    let PassWork { types, odd, even } = work;
     let cells = Cells {
         rows: rows - 1,
         cols: cols - 1,
@@ -127,7 +143,7 @@ pub(crate) fn bilateral<'a>(
     let mut all = types.planes_mut();
     let (per_type, _) = all.as_chunks_mut::<TYPE_PLANES>();
     for (k, type_planes) in per_type.iter_mut().enumerate() {
-        compute_type(planes, cols, k, parallel, type_planes);
+        compute_type(points, cols, k, parallel, type_planes);
     }
     let type_planes = types.planes();
     let type_view = |k: usize| {
@@ -197,9 +213,10 @@ pub(crate) fn bilateral<'a>(
 }
 
 /// Normals, centroids and masks of the type-`k` triangles of every cell of a cloud with
-/// `cols` columns whose points are `planes`, into `[nx, ny, nz, cx, cy, cz, mask]`.
+/// `cols` columns whose points are the planes `points`, into
+/// `[nx, ny, nz, cx, cy, cz, mask]`.
 fn compute_type(
-    planes: &Planes,
+    points: [&[f32]; 4],
     cols: usize,
     k: usize,
     parallel: bool,
@@ -228,8 +245,7 @@ fn compute_type(
             } else {
                 [top, bottom, bottom + 1]
             };
-            let corner =
-                |start| [&planes.x, &planes.y, &planes.z, &planes.m].map(|p| span(p, start, cc));
+            let corner = |start| points.map(|p| span(p, start, cc));
             type_row(
                 corners.map(corner),
                 [&mut *nx, &mut *ny, &mut *nz],

@@ -12,6 +12,25 @@ use crate::LaplacianOptions;
 #[derive(Default)]
 pub(crate) struct LaplacianWork {
     planes: PlaneSet<8>,
+    /// Whether the last run filtered anything, and then whether its output is in the
+    /// second triple x, y, z (an odd number of passes).
+    output: Option<bool>,
+}
+
+impl LaplacianWork {
+    /// The point planes x, y, z and mask (see [`Planes`](super::Planes)) of the cloud the
+    /// last run output, `None` if it filtered nothing. They are bit for bit the planes
+    /// [`Planes::fill`](super::Planes::fill) makes of that cloud: the filtered points
+    /// were widened from them, and every other point was rounded into them and kept.
+    pub(crate) fn output_planes(&self) -> Option<[&[f32]; 4]> {
+        let second = self.output?;
+        let [x, y, z, m, nx, ny, nz, _] = self.planes.planes();
+        Some(if second {
+            [nx, ny, nz, m]
+        } else {
+            [x, y, z, m]
+        })
+    }
 }
 
 /// How many passes each pixel takes part in: all of them, or pixel `i` only in the first
@@ -113,9 +132,11 @@ fn filter<'a>(
         Passes::Uniform(n) => (n, None),
         Passes::PerPixel(p) => (u32::from(p.iter().copied().max().unwrap_or(0)), Some(p)),
     };
+    work.output = None;
     if iterations == 0 || rows <= 2 * half || cols <= 2 * half {
         return None;
     }
+    work.output = Some(iterations % 2 == 1);
     // The largest count per row: rows whose pixels are all done are copied.
     let row_limits: Vec<u8> = limits.map_or_else(Vec::new, |p| {
         p.chunks_exact(cols)

@@ -1,8 +1,10 @@
 //! [`CpuSmoother`]: the CPU backend, with buffers kept across calls.
 
+use std::borrow::Cow;
+
 use opc_mesh::{OpcMesh, OrganizedPointCloud};
 
-use super::bilateral::{BilateralWork, bilateral};
+use super::bilateral::{BilateralWork, Filtered, bilateral, bilateral_of_planes};
 use super::laplacian::{LaplacianWork, Passes, laplacian_copy, laplacian_in_place};
 use crate::{BilateralOptions, LaplacianOptions, SlotNormals, SmoothError, Smoother};
 
@@ -214,15 +216,141 @@ impl CpuSmoother {
         options.validate()?;
         crate::grid::check_shape(opc, cloud.rows(), cloud.cols())?;
         let filtered = bilateral(&mut self.bilateral, cloud, options, self.parallel);
-        let map = opc.triangle_map.as_slice();
-        match filtered.in_slot_order(map, opc.mesh.num_triangles()) {
-            Some(normals) => crate::grid::set_mesh_normals(opc, normals),
-            None => {
-                let mut slots = SlotNormals::default();
-                slots.refill(cloud.rows(), cloud.cols(), |n| filtered.write_slots(n));
-                slots.apply_to_opc_mesh(opc)
-            }
+        into_mesh(&filtered, cloud, opc)
+    }
+
+    /// The Laplacian filter of `cloud` (in place when it is owned, into a copy when it is
+    /// borrowed, as [`Self::laplacian_in_place`] and [`Self::laplacian`]; with `passes`,
+    /// one count per point, as [`Self::laplacian_in_place_per_pixel`]), kept with this
+    /// smoother for the bilateral filter that follows: meshing the smoothed cloud and then
+    /// filtering its normals through [`Smoothed`] gives the results of
+    /// [`Self::bilateral_into_mesh`] on it, without converting the cloud to `f32` once
+    /// more. The pipeline's way through a frame.
+    ///
+    /// ```
+    /// use std::borrow::Cow;
+    /// use mesh_smooth_gpu::{BilateralOptions, CpuSmoother, LaplacianOptions};
+    /// use opc_mesh::{OpcMeshOptions, OrganizedPointCloud};
+    ///
+    /// let points: Vec<[f64; 3]> =
+    ///     (0..100).map(|i| [(i % 10) as f64, (i / 10) as f64, 0.01 * (i % 3) as f64]).collect();
+    /// let cloud = OrganizedPointCloud::new(10, 10, points)?;
+    /// let mut smoother = CpuSmoother::new();
+    /// let mut smoothed =
+    ///     smoother.laplacian_smoothed(Cow::Borrowed(&cloud), &LaplacianOptions::new(), None)?;
+    /// let options = OpcMeshOptions::new().with_compute_normals(false);
+    /// let mut opc = smoothed.cloud().mesh(&options)?;
+    /// smoothed.bilateral_into_mesh(&BilateralOptions::new(), &mut opc)?;
+    /// let smoothed = smoothed.into_cloud();
+    ///
+    /// // What the two filters give one after the other.
+    /// let mut other = smoother.laplacian(&cloud, &LaplacianOptions::new())?.mesh(&options)?;
+    /// smoother.bilateral_into_mesh(&smoothed, &BilateralOptions::new(), &mut other)?;
+    /// assert_eq!(opc.mesh.triangle_normals(), other.mesh.triangle_normals());
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    ///
+    /// # Errors
+    /// Invalid options, or `passes` not one entry per point.
+    pub fn laplacian_smoothed(
+        &mut self,
+        cloud: Cow<'_, OrganizedPointCloud>,
+        options: &LaplacianOptions,
+        passes: Option<&[u8]>,
+    ) -> Result<Smoothed<'_>, SmoothError> {
+        options.validate()?;
+        if let Some(passes) = passes {
+            crate::options::check_passes(passes, &cloud)?;
         }
+        let passes = passes.map_or(Passes::Uniform(options.iterations), Passes::PerPixel);
+        let work = &mut self.laplacian;
+        let cloud = match cloud {
+            Cow::Owned(mut cloud) => {
+                laplacian_in_place(work, &mut cloud, options, passes, self.parallel);
+                cloud
+            }
+            Cow::Borrowed(cloud) => {
+                let points = laplacian_copy(work, cloud, options, passes, self.parallel);
+                OrganizedPointCloud::new(cloud.rows(), cloud.cols(), points)?
+            }
+        };
+        Ok(Smoothed {
+            smoother: self,
+            cloud,
+        })
+    }
+}
+
+/// Writes filtered normals into a mesh of the same cloud (see
+/// [`CpuSmoother::bilateral_into_mesh`]).
+fn into_mesh(
+    filtered: &Filtered<'_>,
+    cloud: &OrganizedPointCloud,
+    opc: &mut OpcMesh,
+) -> Result<(), SmoothError> {
+    let map = opc.triangle_map.as_slice();
+    match filtered.in_slot_order(map, opc.mesh.num_triangles()) {
+        Some(normals) => crate::grid::set_mesh_normals(opc, normals),
+        None => {
+            let mut slots = SlotNormals::default();
+            slots.refill(cloud.rows(), cloud.cols(), |n| filtered.write_slots(n));
+            slots.apply_to_opc_mesh(opc)
+        }
+    }
+}
+
+/// A cloud smoothed by [`CpuSmoother::laplacian_smoothed`], held with the smoother that
+/// keeps its `f32` planes: nothing can change the cloud meanwhile, so the bilateral
+/// filter starts from those planes.
+pub struct Smoothed<'a> {
+    smoother: &'a mut CpuSmoother,
+    cloud: OrganizedPointCloud,
+}
+
+impl std::fmt::Debug for Smoothed<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Smoothed")
+            .field("rows", &self.cloud.rows())
+            .field("cols", &self.cloud.cols())
+            .finish_non_exhaustive()
+    }
+}
+
+impl Smoothed<'_> {
+    /// The smoothed cloud.
+    pub fn cloud(&self) -> &OrganizedPointCloud {
+        &self.cloud
+    }
+
+    /// Gives the smoothed cloud back.
+    pub fn into_cloud(self) -> OrganizedPointCloud {
+        self.cloud
+    }
+
+    /// [`CpuSmoother::bilateral_into_mesh`] on the smoothed cloud.
+    ///
+    /// # Errors
+    /// As [`CpuSmoother::bilateral_into_mesh`].
+    pub fn bilateral_into_mesh(
+        &mut self,
+        options: &BilateralOptions,
+        opc: &mut OpcMesh,
+    ) -> Result<(), SmoothError> {
+        let CpuSmoother {
+            parallel,
+            laplacian,
+            bilateral: work,
+        } = &mut *self.smoother;
+        let Some(points) = laplacian.output_planes() else {
+            return self.smoother.bilateral_into_mesh(&self.cloud, options, opc);
+        };
+        options.validate()?;
+        let cloud = &self.cloud;
+        crate::grid::check_shape(opc, cloud.rows(), cloud.cols())?;
+        let (rows, cols) = (cloud.rows(), cloud.cols());
+        let filtered =
+            bilateral_of_planes(&mut work.passes, points, rows, cols, options, *parallel);
+        into_mesh(&filtered, cloud, opc)
     }
 }
 
