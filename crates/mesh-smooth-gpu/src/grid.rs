@@ -210,7 +210,7 @@ impl SlotNormals {
         in_slot_order(triangle_map, num_triangles, |chunk, map, gather| {
             let normals = &self.normals[chunk * SLOT_CHUNK..][..map.len()];
             for (&n, &t) in normals.iter().zip(map) {
-                gather.slot(n, !n[0].is_nan(), t);
+                gather.slot(to_unit_f64(n), !n[0].is_nan(), t);
             }
         })
     }
@@ -289,19 +289,19 @@ pub(crate) struct Gather<'a> {
 }
 
 impl Gather<'_> {
-    /// The chunk's next slot: its normal, whether its triangle is `present`, its map
-    /// entry `t`. The normal, widened and renormalised ([`to_unit_f64`]), is written at
-    /// `next`, which moves on when the slot is mapped; a slot mapped to anything but
-    /// triangle `first + next`, or mapped but missing, makes the chunk invalid.
-    /// Branch-free but for the end of the part (past its last triangle, missing slots are
-    /// not written): noisy depth frames mix missing and present slots at random, where
-    /// branches would mostly mispredict.
+    /// The chunk's next slot: its unit normal (see [`to_unit_f64`]), whether its
+    /// triangle is `present`, its map entry `t`. The normal is written at `next`, which
+    /// moves on when the slot is mapped; a slot mapped to anything but triangle
+    /// `first + next`, or mapped but missing, makes the chunk invalid. Branch-free but for
+    /// the end of the part (past its last triangle, missing slots are not written): noisy
+    /// depth frames mix missing and present slots at random, where branches would mostly
+    /// mispredict.
     #[inline(always)]
-    pub(crate) fn slot(&mut self, normal: [f32; 3], present: bool, t: u32) {
+    pub(crate) fn slot(&mut self, unit: [f64; 3], present: bool, t: u32) {
         let mapped = t != NO_TRIANGLE;
         self.valid &= !mapped | ((t as usize == self.first + self.next) & present);
         if let Some(slot) = self.part.get_mut(self.next) {
-            slot.write(to_unit_f64(normal));
+            slot.write(unit);
         }
         self.next += usize::from(mapped);
     }
@@ -335,6 +335,39 @@ pub(crate) fn set_mesh_normals(
 /// Slots per task of [`in_slot_order`].
 pub(crate) const SLOT_CHUNK: usize = 1 << 15;
 
+/// Normals per block of [`widen_units`].
+pub(crate) const UNIT_BLOCK: usize = 256;
+
+/// [`to_unit_f64`] of the first (at most [`UNIT_BLOCK`]) normals `(x[i], y[i], z[i])`,
+/// into the x, y, z planes `out`; vectorised where the CPU allows, which a gather that
+/// renormalises as it goes is not. The loop takes the series for every normal (it also
+/// leaves zero normals zero) and notes whether any other needs the square root; only
+/// then is the block done again normal by normal.
+#[multiversion::multiversion(targets("x86_64+avx512f+avx512vl+avx512bw+avx512dq", "x86_64+avx2"))]
+pub(crate) fn widen_units([x, y, z]: [&[f32]; 3], out: &mut [[f64; UNIT_BLOCK]; 3]) {
+    let n = x.len().min(UNIT_BLOCK);
+    let (x, y, z) = (&x[..n], &y[..n], &z[..n]);
+    let [ox, oy, oz] = out;
+    let mut exact = false;
+    for i in 0..n {
+        let v = [x[i], y[i], z[i]].map(f64::from);
+        let len2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
+        let delta = len2 - 1.0;
+        let factor = 1.0 - delta * (0.5 - 0.375 * delta);
+        [ox[i], oy[i], oz[i]] = v.map(|c| c * factor);
+        exact |= (delta.abs() >= SERIES_RANGE) & (len2 > 0.0);
+    }
+    if exact {
+        for i in 0..n {
+            [ox[i], oy[i], oz[i]] = to_unit_f64([x[i], y[i], z[i]]);
+        }
+    }
+}
+
+/// How far from 1 the squared length of a normal that [`to_unit_f64`] renormalises by its
+/// series may be.
+const SERIES_RANGE: f64 = 1e-4;
+
 /// Widens a unit `f32` normal and renormalises it in `f64` (zero stays zero). This runs
 /// for every triangle: for a normal of squared length `1 + δ` within 1e-4 of 1 (every
 /// filtered normal; `f32` rounding leaves δ near 1e-7), the factor `1/√(1 + δ)` is its
@@ -345,7 +378,7 @@ fn to_unit_f64(n: [f32; 3]) -> [f64; 3] {
     let v = n.map(f64::from);
     let len2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
     let delta = len2 - 1.0;
-    let factor = if delta.abs() < 1e-4 {
+    let factor = if delta.abs() < SERIES_RANGE {
         1.0 - delta * (0.5 - 0.375 * delta)
     } else if len2 > 0.0 {
         1.0 / len2.sqrt()
@@ -412,6 +445,25 @@ mod tests {
 
     /// The series for nearly unit normals gives the exact renormalisation to the last
     /// bit or two; zero stays zero, and far from unit length the exact path runs.
+    /// Blocks of unit, zero and NaN normals take the vectorised series; one normal far
+    /// from unit length sends its block to the square root. Either way the bits are those
+    /// of `to_unit_f64` normal by normal.
+    #[test]
+    fn widened_blocks_match_one_by_one() {
+        let unit = [0.6f32, 0.0, -0.8];
+        for odd in [None, Some([3.0f32, 0.0, -4.0]), Some([1e-3, 0.0, 0.0])] {
+            let mut normals = vec![unit, [0.0; 3], [f32::NAN; 3], [0.0, 1.0, 0.0]];
+            normals.extend(odd);
+            let planes: [Vec<f32>; 3] = [0, 1, 2].map(|k| normals.iter().map(|n| n[k]).collect());
+            let mut out = [[0.0; UNIT_BLOCK]; 3];
+            widen_units(planes.each_ref().map(Vec::as_slice), &mut out);
+            for (i, &n) in normals.iter().enumerate() {
+                let got = [out[0][i], out[1][i], out[2][i]].map(f64::to_bits);
+                assert_eq!(got, to_unit_f64(n).map(f64::to_bits), "{n:?} with {odd:?}");
+            }
+        }
+    }
+
     #[test]
     fn widened_normals_are_unit_in_f64() {
         let exact = |n: [f32; 3]| {

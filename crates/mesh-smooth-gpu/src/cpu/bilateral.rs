@@ -6,7 +6,7 @@ use rayon::prelude::*;
 
 use super::{PlaneSet, Planes, exp_neg, fma, min_rows_per_task};
 use crate::BilateralOptions;
-use crate::grid::{SLOT_CHUNK, TRIANGLES_PER_CELL, in_slot_order};
+use crate::grid::{SLOT_CHUNK, TRIANGLES_PER_CELL, UNIT_BLOCK, in_slot_order, widen_units};
 
 /// x, y, z planes, indexed by cell `r · (cols − 1) + c`.
 type Xyz<'a> = [&'a [f32]; 3];
@@ -97,12 +97,20 @@ impl Filtered<'_> {
             // Chunks hold whole cells (an even number of slots).
             let start = chunk * SLOT_CHUNK / TRIANGLES_PER_CELL;
             let cells = start..start + map.len() / TRIANGLES_PER_CELL;
-            let [x0, y0, z0] = self.normals[0].map(|p| &p[cells.clone()]);
-            let [x1, y1, z1] = self.normals[1].map(|p| &p[cells.clone()]);
-            let [m0, m1] = self.masks.map(|m| &m[cells.clone()]);
-            for (c, pair) in map.chunks_exact(TRIANGLES_PER_CELL).enumerate() {
-                gather.slot([x0[c], y0[c], z0[c]], m0[c] > 0.0, pair[0]);
-                gather.slot([x1[c], y1[c], z1[c]], m1[c] > 0.0, pair[1]);
+            // Block by block: the unit `f64` normals of both types, then the gather.
+            let mut units = [[[0.0; UNIT_BLOCK]; 3]; 2];
+            for (b, map) in map.chunks(TRIANGLES_PER_CELL * UNIT_BLOCK).enumerate() {
+                let first = cells.start + b * UNIT_BLOCK;
+                let block = first..first + map.len() / TRIANGLES_PER_CELL;
+                for (k, units) in units.iter_mut().enumerate() {
+                    widen_units(self.normals[k].map(|p| &p[block.clone()]), units);
+                }
+                let [m0, m1] = self.masks.map(|m| &m[block.clone()]);
+                let [[x0, y0, z0], [x1, y1, z1]] = &units;
+                for (c, pair) in map.chunks_exact(TRIANGLES_PER_CELL).enumerate() {
+                    gather.slot([x0[c], y0[c], z0[c]], m0[c] > 0.0, pair[0]);
+                    gather.slot([x1[c], y1[c], z1[c]], m1[c] > 0.0, pair[1]);
+                }
             }
         })
     }
