@@ -89,7 +89,7 @@ pub mod mesh;
 mod noise;
 mod options;
 
-pub use cpu::{CpuSmoother, Smoothed};
+pub use cpu::{CpuSmoother, Smoothed, SmoothedPlanes};
 pub use error::SmoothError;
 pub use filters::{Smoother, bilateral_filter, laplacian_filter};
 #[cfg(feature = "gpu")]

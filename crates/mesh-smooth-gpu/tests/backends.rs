@@ -216,7 +216,6 @@ proptest! {
         laplacian_half in 1u32..3, iterations in 0u32..4, per_pixel in any::<bool>(),
         bilateral_half in 1u32..3, owned in any::<bool>(),
     ) {
-        use std::borrow::Cow;
         let cloud = wavy_cloud(rows, cols, seed, 0.01, holes);
         let laplacian = LaplacianOptions::new()
             .with_kernel(2 * laplacian_half + 1)
@@ -239,20 +238,46 @@ proptest! {
                 .bilateral_into_mesh(&expected_cloud, &bilateral, &mut expected)
                 .expect("the same cloud");
 
-            let input = if owned { Cow::Owned(cloud.clone()) } else { Cow::Borrowed(&cloud) };
-            let mut smoothed = smoother
-                .laplacian_smoothed(input, &laplacian, passes)
-                .expect("valid options");
-            prop_assert_eq!(bits(smoothed.cloud().points()), bits(expected_cloud.points()));
-            let mut got = smoothed.cloud().mesh(&mesh_options).expect("meshed above");
-            smoothed.bilateral_into_mesh(&bilateral, &mut got).expect("the same cloud");
             let normal_bits = |n: Option<&[[f64; 3]]>| {
                 n.map(|n| n.iter().map(|v| v.map(f64::to_bits)).collect::<Vec<_>>())
             };
-            prop_assert_eq!(
-                normal_bits(got.mesh.triangle_normals()),
-                normal_bits(expected.mesh.triangle_normals())
-            );
+            let expected_normals = normal_bits(expected.mesh.triangle_normals());
+            // With the cloud.
+            let mut smoothed = smooth(&mut smoother, &cloud, owned, &laplacian, passes);
+            prop_assert_eq!(bits(smoothed.cloud().points()), bits(expected_cloud.points()));
+            let mut got = smoothed.cloud().mesh(&mesh_options).expect("meshed above");
+            smoothed.bilateral_into_mesh(&bilateral, &mut got).expect("the same cloud");
+            prop_assert_eq!(normal_bits(got.mesh.triangle_normals()), expected_normals.clone());
+            // With the cloud moved into its mesh, where a pass left planes.
+            let half = laplacian_half as usize;
+            let runs = passes.map_or(iterations > 0, |p| p.iter().any(|&n| n > 0))
+                && rows > 2 * half
+                && cols > 2 * half;
+            let parts = smooth(&mut smoother, &cloud, owned, &laplacian, passes).into_parts();
+            prop_assert_eq!(parts.is_ok(), runs);
+            if let Ok((cloud, mut planes)) = parts {
+                let mut got = cloud.into_mesh(&mesh_options).expect("meshed above");
+                planes.bilateral_into_mesh(&bilateral, &mut got).expect("the same cloud");
+                prop_assert_eq!(normal_bits(got.mesh.triangle_normals()), expected_normals);
+            }
         }
     }
+}
+
+/// `cloud` through `laplacian_smoothed`, owned or borrowed.
+fn smooth<'a>(
+    smoother: &'a mut CpuSmoother,
+    cloud: &'a opc_mesh::OrganizedPointCloud,
+    owned: bool,
+    laplacian: &LaplacianOptions,
+    passes: Option<&[u8]>,
+) -> mesh_smooth_gpu::Smoothed<'a> {
+    let input = if owned {
+        std::borrow::Cow::Owned(cloud.clone())
+    } else {
+        std::borrow::Cow::Borrowed(cloud)
+    };
+    smoother
+        .laplacian_smoothed(input, laplacian, passes)
+        .expect("valid options")
 }

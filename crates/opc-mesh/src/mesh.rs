@@ -201,10 +201,58 @@ impl OrganizedPointCloud {
     /// # Errors
     /// As [`OrganizedPointCloudView::mesh`].
     pub fn into_mesh(self, options: &OpcMeshOptions) -> Result<OpcMesh, OpcError> {
+        self.into_mesh_with_buffers(options, Buffers::default())
+    }
+
+    /// Meshes the cloud, moving its points into the mesh, and reusing an earlier mesh's
+    /// other arrays (its vertices are dropped): [`Self::into_mesh`] for a stream of
+    /// frames, as [`Self::mesh_reusing`] is [`Self::mesh`].
+    ///
+    /// ```
+    /// use opc_mesh::{OpcMeshOptions, OrganizedPointCloud};
+    /// let frame = |z: f64| {
+    ///     let points: Vec<[f64; 3]> = (0..12).map(|i| [(i % 4) as f64, (i / 4) as f64, z]).collect();
+    ///     OrganizedPointCloud::new(3, 4, points)
+    /// };
+    /// let options = OpcMeshOptions::default();
+    /// let mut opc = frame(1.0)?.into_mesh(&options)?;
+    /// for z in [1.1, 1.2] {
+    ///     let fresh = frame(z)?.into_mesh(&options)?;
+    ///     opc = frame(z)?.into_mesh_reusing(&options, opc)?;
+    ///     assert_eq!(opc.mesh.triangles(), fresh.mesh.triangles());
+    /// }
+    /// assert_eq!(opc.mesh.vertices()[0], [0.0, 0.0, 1.2]);
+    /// # Ok::<(), opc_mesh::OpcError>(())
+    /// ```
+    ///
+    /// # Errors
+    /// As [`OrganizedPointCloudView::mesh`]; `previous` is dropped then.
+    pub fn into_mesh_reusing(
+        self,
+        options: &OpcMeshOptions,
+        previous: OpcMesh,
+    ) -> Result<OpcMesh, OpcError> {
+        let (_, triangles, halfedges, normals) = previous.mesh.into_parts();
+        let buffers = Buffers {
+            vertices: None,
+            triangles,
+            halfedges: unflatten(halfedges),
+            normals,
+            map: unflatten(previous.triangle_map.into_vec()),
+        };
+        self.into_mesh_with_buffers(options, buffers)
+    }
+
+    /// Meshes the cloud into `buffers`, moving its points into the mesh.
+    fn into_mesh_with_buffers(
+        self,
+        options: &OpcMeshOptions,
+        buffers: Buffers,
+    ) -> Result<OpcMesh, OpcError> {
         let (rows, cols) = (self.rows(), self.cols());
         let points = self.into_points();
         let view = OrganizedPointCloudView::from_checked(rows, cols, &points);
-        let parts = mesh_grid(view, Buffers::default(), options)?;
+        let parts = mesh_grid(view, buffers, options)?;
         Ok(OpcMesh {
             mesh: HalfEdgeMesh::from_parts_trusted(
                 points,

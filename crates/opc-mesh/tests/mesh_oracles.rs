@@ -175,9 +175,14 @@ proptest! {
         let (Ok(previous), Ok(fresh)) = (first.mesh(&options(normals[0])), second.mesh(&options(normals[1]))) else {
             return Ok(());
         };
+        let moved_into = first.clone().into_mesh(&options(normals[0])).expect("meshed above");
         let reused = second.mesh_reusing(&options(normals[1]), previous).expect("reused");
         reused.mesh.sanity_check().expect("sanity check");
         prop_assert!(same_mesh(&reused, &fresh));
+        // Moving the points in, into the arrays of a mesh that had moved its own in.
+        let moved = second.clone().into_mesh_reusing(&options(normals[1]), moved_into).expect("reused");
+        moved.mesh.sanity_check().expect("sanity check");
+        prop_assert!(same_mesh(&moved, &fresh));
     }
 
     #[test]

@@ -127,6 +127,8 @@ impl Polylidar {
             // The bilateral filter replaces every triangle normal: meshing skips them then.
             let options = OpcMeshOptions::new().with_compute_normals(config.bilateral.is_none());
             let mut laplacian_iterations = 0;
+            // The valid points of a smoothed cloud moved into its mesh.
+            let mut moved_valid = None;
             let opc = match (&config.laplacian, &config.bilateral, cloud.take()) {
                 (Some(l), Some(b), Some(mut c))
                     if l.backend == SmoothingBackend::Gpu && b.backend == SmoothingBackend::Gpu =>
@@ -142,7 +144,10 @@ impl Polylidar {
                 {
                     let (iterations, opc, smoothed) =
                         smooth_on_cpu(&mut reuse, l, b, c, &options, &mut timings)?;
-                    cloud = Some(smoothed);
+                    match smoothed {
+                        Ok(c) => cloud = Some(c),
+                        Err(valid) => moved_valid = Some(valid),
+                    }
                     laplacian_iterations = iterations;
                     opc
                 }
@@ -170,10 +175,11 @@ impl Polylidar {
             // `extract_planes` takes the lock again for FastGA.
             drop(reuse);
             let filled_count = filled.iter().filter(|&&f| f).count();
-            let grid_points = cloud
-                .as_ref()
-                .map_or_else(|| input.num_valid(), |c| c.num_valid())
-                - filled_count;
+            let grid_points = moved_valid.unwrap_or_else(|| {
+                cloud
+                    .as_ref()
+                    .map_or_else(|| input.num_valid(), |c| c.num_valid())
+            }) - filled_count;
             let counts = Counts {
                 points: decimation
                     .as_ref()
@@ -409,9 +415,10 @@ fn smooth_on_gpu(
 
 /// Both filters on one CPU smoother with meshing in between
 /// ([`mesh_smooth_gpu::CpuSmoother::laplacian_smoothed`]: the bilateral filter starts
-/// from the Laplacian's `f32` planes). Records the `laplacian`, `mesh` and `bilateral`
-/// stages; returns the Laplacian passes, the mesh and the smoothed cloud (`cloud` itself
-/// when no pass runs).
+/// from the Laplacian's `f32` planes, and the smoothed cloud's points move into the mesh
+/// instead of being copied). Records the `laplacian`, `mesh` and `bilateral` stages;
+/// returns the Laplacian passes, the mesh, and the smoothed cloud (`cloud` itself when
+/// no pass runs) or, when it moved into the mesh, its number of valid points.
 fn smooth_on_cpu<'a>(
     reuse: &mut reuse::Reusable,
     l: &LaplacianConfig,
@@ -419,7 +426,7 @@ fn smooth_on_cpu<'a>(
     cloud: Cow<'a, OrganizedPointCloud>,
     options: &OpcMeshOptions,
     timings: &mut Timings,
-) -> Result<(u32, OpcMesh, Cow<'a, OrganizedPointCloud>), PolylidarError> {
+) -> Result<(u32, OpcMesh, Result<Cow<'a, OrganizedPointCloud>, usize>), PolylidarError> {
     let storage = reuse.mesh_storage();
     let start = Instant::now();
     let (iterations, passes) = laplacian_passes(l, &cloud);
@@ -429,16 +436,30 @@ fn smooth_on_cpu<'a>(
         timings.time("bilateral", || {
             reuse.bilateral(b.backend, &cloud, &b.options(), &mut opc)
         })?;
-        return Ok((0, opc, cloud));
+        return Ok((0, opc, Ok(cloud)));
     }
     let cpu = reuse.cpu(l.backend);
-    let mut smoothed = cpu.laplacian_smoothed(cloud, &l.options(iterations), passes.as_deref())?;
+    let smoothed = cpu.laplacian_smoothed(cloud, &l.options(iterations), passes.as_deref())?;
     timings.record("laplacian", start.elapsed());
-    let mut opc = timings.time("mesh", || smoothed.cloud().mesh_reusing(options, storage))?;
-    timings.time("bilateral", || {
-        smoothed.bilateral_into_mesh(&b.options(), &mut opc)
-    })?;
-    Ok((iterations, opc, Cow::Owned(smoothed.into_cloud())))
+    match smoothed.into_parts() {
+        Ok((smoothed, mut planes)) => {
+            let valid = smoothed.num_valid();
+            let mut opc = timings.time("mesh", || smoothed.into_mesh_reusing(options, storage))?;
+            timings.time("bilateral", || {
+                planes.bilateral_into_mesh(&b.options(), &mut opc)
+            })?;
+            Ok((iterations, opc, Err(valid)))
+        }
+        // No pass ran (per-pixel counts all zero, or a grid within the kernel).
+        Err(mut smoothed) => {
+            let mut opc =
+                timings.time("mesh", || smoothed.cloud().mesh_reusing(options, storage))?;
+            timings.time("bilateral", || {
+                smoothed.bilateral_into_mesh(&b.options(), &mut opc)
+            })?;
+            Ok((iterations, opc, Ok(Cow::Owned(smoothed.into_cloud()))))
+        }
+    }
 }
 
 /// Runs the Laplacian filter `l` on `cloud` (in place when it is owned), returning the

@@ -18,18 +18,24 @@ pub(crate) struct LaplacianWork {
 }
 
 impl LaplacianWork {
-    /// The point planes x, y, z and mask (see [`Planes`](super::Planes)) of the cloud the
-    /// last run output, `None` if it filtered nothing. They are bit for bit the planes
-    /// [`Planes::fill`](super::Planes::fill) makes of that cloud: the filtered points
-    /// were widened from them, and every other point was rounded into them and kept.
-    pub(crate) fn output_planes(&self) -> Option<[&[f32]; 4]> {
-        let second = self.output?;
+    /// Whether the last run filtered anything, and then whether the planes of the cloud it
+    /// output are those with the `second` triple x, y, z ([`Self::planes_at`]).
+    pub(crate) fn output(&self) -> Option<bool> {
+        self.output
+    }
+
+    /// The point planes x, y, z and mask (see [`Planes`](super::Planes)) with the first
+    /// or the `second` triple. Those of the last run's [`Self::output`] are bit for bit
+    /// the planes [`Planes::fill`](super::Planes::fill) makes of the cloud it output: the
+    /// filtered points were widened from them, and every other point was rounded into
+    /// them and kept.
+    pub(crate) fn planes_at(&self, second: bool) -> [&[f32]; 4] {
         let [x, y, z, m, nx, ny, nz, _] = self.planes.planes();
-        Some(if second {
+        if second {
             [nx, ny, nz, m]
         } else {
             [x, y, z, m]
-        })
+        }
     }
 }
 

@@ -10,7 +10,7 @@ mod bilateral;
 mod fast_exp;
 mod laplacian;
 
-pub use smoother::{CpuSmoother, Smoothed};
+pub use smoother::{CpuSmoother, Smoothed, SmoothedPlanes};
 
 pub(crate) use fast_exp::exp_neg;
 

@@ -216,7 +216,7 @@ impl CpuSmoother {
         options.validate()?;
         crate::grid::check_shape(opc, cloud.rows(), cloud.cols())?;
         let filtered = bilateral(&mut self.bilateral, cloud, options, self.parallel);
-        into_mesh(&filtered, cloud, opc)
+        into_mesh(&filtered, cloud.rows(), cloud.cols(), opc)
     }
 
     /// The Laplacian filter of `cloud` (in place when it is owned, into a copy when it is
@@ -281,11 +281,12 @@ impl CpuSmoother {
     }
 }
 
-/// Writes filtered normals into a mesh of the same cloud (see
+/// Writes the filtered normals of a `rows × cols` cloud into a mesh of that cloud (see
 /// [`CpuSmoother::bilateral_into_mesh`]).
 fn into_mesh(
     filtered: &Filtered<'_>,
-    cloud: &OrganizedPointCloud,
+    rows: usize,
+    cols: usize,
     opc: &mut OpcMesh,
 ) -> Result<(), SmoothError> {
     let map = opc.triangle_map.as_slice();
@@ -293,7 +294,7 @@ fn into_mesh(
         Some(normals) => crate::grid::set_mesh_normals(opc, normals),
         None => {
             let mut slots = SlotNormals::default();
-            slots.refill(cloud.rows(), cloud.cols(), |n| filtered.write_slots(n));
+            slots.refill(rows, cols, |n| filtered.write_slots(n));
             slots.apply_to_opc_mesh(opc)
         }
     }
@@ -316,7 +317,7 @@ impl std::fmt::Debug for Smoothed<'_> {
     }
 }
 
-impl Smoothed<'_> {
+impl<'a> Smoothed<'a> {
     /// The smoothed cloud.
     pub fn cloud(&self) -> &OrganizedPointCloud {
         &self.cloud
@@ -325,6 +326,27 @@ impl Smoothed<'_> {
     /// Gives the smoothed cloud back.
     pub fn into_cloud(self) -> OrganizedPointCloud {
         self.cloud
+    }
+
+    /// The smoothed cloud, free to be moved into its mesh
+    /// (`OrganizedPointCloud::into_mesh_reusing`), and its planes for the bilateral
+    /// filter; `Err(self)` when the Laplacian filter ran no pass (none asked for, or a
+    /// grid within its kernel), which leaves no planes: the bilateral filter then needs
+    /// the cloud.
+    ///
+    /// # Errors
+    /// `self` back when there are no planes.
+    pub fn into_parts(self) -> Result<(OrganizedPointCloud, SmoothedPlanes<'a>), Self> {
+        let Some(second) = self.smoother.laplacian.output() else {
+            return Err(self);
+        };
+        let planes = SmoothedPlanes {
+            rows: self.cloud.rows(),
+            cols: self.cloud.cols(),
+            second,
+            smoother: self.smoother,
+        };
+        Ok((self.cloud, planes))
     }
 
     /// [`CpuSmoother::bilateral_into_mesh`] on the smoothed cloud.
@@ -336,22 +358,70 @@ impl Smoothed<'_> {
         options: &BilateralOptions,
         opc: &mut OpcMesh,
     ) -> Result<(), SmoothError> {
-        let CpuSmoother {
-            parallel,
-            laplacian,
-            bilateral: work,
-        } = &mut *self.smoother;
-        let Some(points) = laplacian.output_planes() else {
-            return self.smoother.bilateral_into_mesh(&self.cloud, options, opc);
-        };
-        options.validate()?;
-        let cloud = &self.cloud;
-        crate::grid::check_shape(opc, cloud.rows(), cloud.cols())?;
-        let (rows, cols) = (cloud.rows(), cloud.cols());
-        let filtered =
-            bilateral_of_planes(&mut work.passes, points, rows, cols, options, *parallel);
-        into_mesh(&filtered, cloud, opc)
+        let (rows, cols) = (self.cloud.rows(), self.cloud.cols());
+        match self.smoother.laplacian.output() {
+            Some(second) => planes_bilateral(self.smoother, second, rows, cols, options, opc),
+            None => self.smoother.bilateral_into_mesh(&self.cloud, options, opc),
+        }
     }
+}
+
+/// The planes of a cloud smoothed by [`CpuSmoother::laplacian_smoothed`] once the cloud
+/// has gone ([`Smoothed::into_parts`]), for the bilateral filter.
+pub struct SmoothedPlanes<'a> {
+    smoother: &'a mut CpuSmoother,
+    rows: usize,
+    cols: usize,
+    /// Which triple of the Laplacian's planes holds the smoothed points.
+    second: bool,
+}
+
+impl std::fmt::Debug for SmoothedPlanes<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("SmoothedPlanes")
+            .field("rows", &self.rows)
+            .field("cols", &self.cols)
+            .finish_non_exhaustive()
+    }
+}
+
+impl SmoothedPlanes<'_> {
+    /// [`CpuSmoother::bilateral_into_mesh`] on the smoothed cloud, into its mesh.
+    ///
+    /// # Errors
+    /// As [`CpuSmoother::bilateral_into_mesh`].
+    pub fn bilateral_into_mesh(
+        &mut self,
+        options: &BilateralOptions,
+        opc: &mut OpcMesh,
+    ) -> Result<(), SmoothError> {
+        let Self {
+            rows, cols, second, ..
+        } = *self;
+        planes_bilateral(self.smoother, second, rows, cols, options, opc)
+    }
+}
+
+/// The bilateral filter of a `rows × cols` cloud from the planes of the smoother's last
+/// Laplacian run (the first or the `second` triple), into a mesh of that cloud.
+fn planes_bilateral(
+    smoother: &mut CpuSmoother,
+    second: bool,
+    rows: usize,
+    cols: usize,
+    options: &BilateralOptions,
+    opc: &mut OpcMesh,
+) -> Result<(), SmoothError> {
+    options.validate()?;
+    crate::grid::check_shape(opc, rows, cols)?;
+    let CpuSmoother {
+        parallel,
+        laplacian,
+        bilateral: work,
+    } = smoother;
+    let points = laplacian.planes_at(second);
+    let filtered = bilateral_of_planes(&mut work.passes, points, rows, cols, options, *parallel);
+    into_mesh(&filtered, rows, cols, opc)
 }
 
 impl Default for CpuSmoother {
