@@ -145,8 +145,8 @@ impl Polylidar {
                     let (iterations, opc, smoothed) =
                         smooth_on_cpu(&mut reuse, l, b, c, &options, &mut timings)?;
                     match smoothed {
-                        Ok(c) => cloud = Some(c),
-                        Err(valid) => moved_valid = Some(valid),
+                        SmoothedCloud::Kept(c) => cloud = Some(c),
+                        SmoothedCloud::Moved { valid } => moved_valid = Some(valid),
                     }
                     laplacian_iterations = iterations;
                     opc
@@ -413,12 +413,19 @@ fn smooth_on_gpu(
     Ok((iterations, opc))
 }
 
+/// What became of the cloud that [`smooth_on_cpu`] smoothed.
+enum SmoothedCloud<'a> {
+    /// Still a cloud: the input itself when no pass ran.
+    Kept(Cow<'a, OrganizedPointCloud>),
+    /// Moved into the mesh, with this many valid points.
+    Moved { valid: usize },
+}
+
 /// Both filters on one CPU smoother with meshing in between
 /// ([`mesh_smooth_gpu::CpuSmoother::laplacian_smoothed`]: the bilateral filter starts
 /// from the Laplacian's `f32` planes, and the smoothed cloud's points move into the mesh
 /// instead of being copied). Records the `laplacian`, `mesh` and `bilateral` stages;
-/// returns the Laplacian passes, the mesh, and the smoothed cloud (`cloud` itself when
-/// no pass runs) or, when it moved into the mesh, its number of valid points.
+/// returns the Laplacian passes, the mesh and what became of the cloud.
 fn smooth_on_cpu<'a>(
     reuse: &mut reuse::Reusable,
     l: &LaplacianConfig,
@@ -426,7 +433,7 @@ fn smooth_on_cpu<'a>(
     cloud: Cow<'a, OrganizedPointCloud>,
     options: &OpcMeshOptions,
     timings: &mut Timings,
-) -> Result<(u32, OpcMesh, Result<Cow<'a, OrganizedPointCloud>, usize>), PolylidarError> {
+) -> Result<(u32, OpcMesh, SmoothedCloud<'a>), PolylidarError> {
     let storage = reuse.mesh_storage();
     let start = Instant::now();
     let (iterations, passes) = laplacian_passes(l, &cloud);
@@ -436,7 +443,7 @@ fn smooth_on_cpu<'a>(
         timings.time("bilateral", || {
             reuse.bilateral(b.backend, &cloud, &b.options(), &mut opc)
         })?;
-        return Ok((0, opc, Ok(cloud)));
+        return Ok((0, opc, SmoothedCloud::Kept(cloud)));
     }
     let cpu = reuse.cpu(l.backend);
     let smoothed = cpu.laplacian_smoothed(cloud, &l.options(iterations), passes.as_deref())?;
@@ -448,7 +455,7 @@ fn smooth_on_cpu<'a>(
             timings.time("bilateral", || {
                 planes.bilateral_into_mesh(&b.options(), &mut opc)
             })?;
-            Ok((iterations, opc, Err(valid)))
+            Ok((iterations, opc, SmoothedCloud::Moved { valid }))
         }
         // No pass ran (per-pixel counts all zero, or a grid within the kernel).
         Err(mut smoothed) => {
@@ -457,7 +464,8 @@ fn smooth_on_cpu<'a>(
             timings.time("bilateral", || {
                 smoothed.bilateral_into_mesh(&b.options(), &mut opc)
             })?;
-            Ok((iterations, opc, Ok(Cow::Owned(smoothed.into_cloud()))))
+            let smoothed = Cow::Owned(smoothed.into_cloud());
+            Ok((iterations, opc, SmoothedCloud::Kept(smoothed)))
         }
     }
 }
