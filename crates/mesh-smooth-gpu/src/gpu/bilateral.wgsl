@@ -109,11 +109,12 @@ fn filter_normals(@builtin(global_invocation_id) id: vec3<u32>) {
                     let ex = oc.x - qc.x;
                     let ey = oc.y - qc.y;
                     let ez = oc.z - qc.z;
-                    let fx = own.x - q.x;
-                    let fy = own.y - q.y;
-                    let fz = own.z - q.z;
-                    let e = (ex * ex + ey * ey + ez * ez) * params.inv_var_length
-                        + (fx * fx + fy * fy + fz * fz) * params.inv_var_angle;
+                    // |own − q|² as 2 − 2 own · q, the CPU's form: equal for unit normals,
+                    // and a missing neighbour's weight is zeroed by q.w below.
+                    let length = fma(ez, ez, fma(ey, ey, ex * ex));
+                    let cosine = fma(own.z, q.z, fma(own.y, q.y, own.x * q.x));
+                    let two_iva = 2.0 * params.inv_var_angle;
+                    let e = fma(cosine, -two_iva, fma(length, params.inv_var_length, two_iva));
                     var w = 0.0;
                     if (e <= EXP_NEG_CUTOFF) {
                         w = q.w * exp(-e);
