@@ -81,14 +81,8 @@ impl CpuSmoother {
         cloud: &OrganizedPointCloud,
         options: &LaplacianOptions,
     ) -> Result<OrganizedPointCloud, SmoothError> {
-        options.validate()?;
-        let passes = Passes::Uniform(options.iterations);
-        let points = laplacian_copy(&mut self.laplacian, cloud, options, passes, self.parallel);
-        Ok(OrganizedPointCloud::new(
-            cloud.rows(),
-            cloud.cols(),
-            points,
-        )?)
+        let smoothed = self.laplacian_smoothed(Cow::Borrowed(cloud), options, None)?;
+        Ok(smoothed.into_cloud())
     }
 
     /// The Laplacian filter, overwriting the filtered points of `cloud`.
@@ -223,7 +217,8 @@ impl CpuSmoother {
     /// borrowed, as [`Self::laplacian_in_place`] and [`Self::laplacian`]; with `passes`,
     /// one count per point, as [`Self::laplacian_in_place_per_pixel`]), kept with this
     /// smoother for the bilateral filter that follows: meshing the smoothed cloud and then
-    /// filtering its normals through [`Smoothed`] gives the results of
+    /// filtering its normals through [`Smoothed`] (or, once the cloud has moved into its
+    /// mesh, through [`SmoothedPlanes`]) gives the results of
     /// [`Self::bilateral_into_mesh`] on it, without converting the cloud to `f32` once
     /// more. The pipeline's way through a frame.
     ///
