@@ -11,7 +11,7 @@ use crate::grid::{SLOT_CHUNK, TRIANGLES_PER_CELL, UNIT_BLOCK, in_slot_order, wid
 /// x, y, z planes, indexed by cell `r · (cols − 1) + c`.
 type Xyz<'a> = [&'a [f32]; 3];
 
-/// Planes per triangle type in [`BilateralWork::types`]: normal x, y, z, centroid x, y, z
+/// Planes per triangle type in [`PassWork::types`]: normal x, y, z, centroid x, y, z
 /// and the mask.
 const TYPE_PLANES: usize = 7;
 
