@@ -99,7 +99,8 @@ class Extraction:
         """3D: the ``(K, 3)`` dominant plane normals the segments were grown for."""
     @property
     def mesh(self) -> Mesh:
-        """The triangulation the polygons come from (a copy on each access)."""
+        """The triangulation the polygons come from (a copy on each access); ``ValueError``
+        once :meth:`Polylidar.recycle` took it."""
     @property
     def counts(self) -> Dict[str, int]:
         """What each stage kept and dropped (``points``, ``triangles``, ``dropped_lmax``,
@@ -144,6 +145,9 @@ class Polylidar:
         """``(N, 2)``: :meth:`extract_2d`; ``(N, 3)``: :meth:`extract_25d`."""
     def extract_organized(self, cloud: FloatArray) -> Extraction:
         """Planes and polygons of an organized cloud ``(H, W, 3)`` (NaN: invalid)."""
+    def recycle(self, extraction: Extraction) -> None:
+        """Hands the extraction's mesh back for the next organized frame to be meshed into;
+        its ``mesh``, ``point_labels`` and ``plane_labels`` raise ``ValueError`` afterwards."""
     def extract_mesh(self, vertices: FloatArray, triangles: npt.NDArray[np.integer]) -> Extraction:
         """Planes and polygons of a mesh: ``(N, 3)`` vertices, ``(M, 3)`` triangles."""
     def extract_planes(self, mesh: Mesh, dominant_normals: Optional[FloatArray] = None) -> Extraction:

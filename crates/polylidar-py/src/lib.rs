@@ -157,6 +157,15 @@ impl Polylidar {
         self.organized(py, &p, rows, cols)
     }
 
+    /// Hands a finished extraction's mesh back, so that the next organized frame is meshed
+    /// into its arrays instead of fresh memory (a stream of frames of one shape; results
+    /// are the same). Its polygons stay; its ``mesh``, ``point_labels`` and
+    /// ``plane_labels`` raise ``ValueError`` afterwards, as does recycling it again.
+    fn recycle(&self, extraction: &Extraction) -> PyResult<()> {
+        self.inner.recycle_mesh(extraction.take_mesh()?);
+        Ok(())
+    }
+
     /// Planes and polygons of a triangle mesh: ``vertices`` ``(N, 3)`` float, ``triangles``
     /// ``(M, 3)`` integer (counter-clockwise). The mesh is copied into the half-edge mesh.
     fn extract_mesh(

@@ -1,5 +1,8 @@
 //! What a run returns to Python: [`Extraction`] with its [`Polygon`]s and [`Mesh`].
 
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{PoisonError, RwLock, RwLockReadGuard};
+
 use numpy::{PyArray1, PyArrayMethods};
 use polylidar::HalfEdgeMesh;
 use polylidar::output::{PolygonSet, feature_collection, polygon_area};
@@ -223,8 +226,10 @@ impl Mesh {
 /// The result of a pipeline run.
 #[pyclass(frozen, module = "polylidar_rs")]
 pub struct Extraction {
-    /// The Rust result.
-    pub inner: polylidar::Extraction,
+    /// The Rust result; its mesh is taken out by `Polylidar.recycle`.
+    inner: RwLock<polylidar::Extraction>,
+    /// Whether `Polylidar.recycle` took the mesh.
+    recycled: AtomicBool,
     /// 2 for 2D input, else 3.
     pub dims: usize,
     /// `(rows, cols)` of organized input.
@@ -249,7 +254,8 @@ impl Extraction {
         postprocess: bool,
     ) -> Self {
         Self {
-            inner,
+            inner: RwLock::new(inner),
+            recycled: AtomicBool::new(false),
             dims,
             grid,
             input_address,
@@ -257,6 +263,29 @@ impl Extraction {
             polygons: PyOnceLock::new(),
             postprocessed: PyOnceLock::new(),
         }
+    }
+
+    /// The Rust result (a panic elsewhere while it was held left nothing half-written: it
+    /// is only ever written by `take_mesh`, which swaps the mesh out whole).
+    fn read(&self) -> RwLockReadGuard<'_, polylidar::Extraction> {
+        self.inner.read().unwrap_or_else(PoisonError::into_inner)
+    }
+
+    /// [`Self::read`] for what needs the mesh: an error once `Polylidar.recycle` took it.
+    fn read_mesh(&self) -> PyResult<RwLockReadGuard<'_, polylidar::Extraction>> {
+        if self.recycled.load(Ordering::Acquire) {
+            return Err(recycled_error());
+        }
+        Ok(self.read())
+    }
+
+    /// The mesh, for `Polylidar.recycle`, leaving an empty one; an error the second time.
+    pub fn take_mesh(&self) -> PyResult<HalfEdgeMesh> {
+        let mut inner = self.inner.write().unwrap_or_else(PoisonError::into_inner);
+        if self.recycled.swap(true, Ordering::AcqRel) {
+            return Err(recycled_error());
+        }
+        Ok(std::mem::take(&mut inner.mesh))
     }
 
     fn labels<'py>(&self, py: Python<'py>, labels: Vec<i32>) -> PyResult<Bound<'py, PyAny>> {
@@ -278,7 +307,7 @@ impl Extraction {
             .polygons
             .get_or_try_init(py, || -> PyResult<Py<PyList>> {
                 let items: Vec<Polygon> = self
-                    .inner
+                    .read()
                     .polygons
                     .iter()
                     .map(|p| Polygon {
@@ -307,12 +336,12 @@ impl Extraction {
         let list = self
             .postprocessed
             .get_or_try_init(py, || -> PyResult<Py<PyList>> {
-                let items: Vec<Polygon> = self
-                    .inner
+                let inner = self.read();
+                let items: Vec<Polygon> = inner
                     .postprocessed
                     .iter()
                     .map(|p| {
-                        let source = &self.inner.polygons[p.source];
+                        let source = &inner.polygons[p.source];
                         Polygon {
                             shell: p.shell.clone(),
                             holes: p.holes.clone(),
@@ -336,27 +365,29 @@ impl Extraction {
     /// 3D: the dominant plane normals (``(K, 3)`` float64) the segments were grown for.
     #[getter]
     fn dominant_normals<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        rows_to_array(py, self.inner.dominant_normals.clone())
+        rows_to_array(py, self.read().dominant_normals.clone())
     }
 
-    /// The triangulation the polygons were extracted from (a copy, made on each access).
+    /// The triangulation the polygons were extracted from (a copy, made on each access);
+    /// an error once :meth:`Polylidar.recycle` took it.
     #[getter]
-    fn mesh(&self) -> Mesh {
-        Mesh {
-            mesh: self.inner.mesh.clone(),
+    fn mesh(&self) -> PyResult<Mesh> {
+        let inner = self.read_mesh()?;
+        Ok(Mesh {
+            mesh: inner.mesh.clone(),
             // A decimated cloud's mesh has a vertex per block of pixels.
-            grid: match &self.inner.decimation {
+            grid: match &inner.decimation {
                 Some(d) => Some(d.grid()),
                 None => self.grid,
             },
-        }
+        })
     }
 
     /// What each stage kept and dropped (points, triangles, dropped_lmax, regions,
     /// polygons, holes, dominant_normals, …), a dict of ints.
     #[getter]
     fn counts<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let value = serde_json::to_value(self.inner.diagnostics.counts)
+        let value = serde_json::to_value(self.read().diagnostics.counts)
             .map_err(|e| pyo3::exceptions::PyValueError::new_err(e.to_string()))?;
         from_json(py, &value)
     }
@@ -367,7 +398,7 @@ impl Extraction {
     #[getter]
     fn timings<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let dict = PyDict::new(py);
-        for (stage, d) in self.inner.diagnostics.timings.stages() {
+        for (stage, d) in self.read().diagnostics.timings.stages() {
             dict.set_item(*stage, d.as_secs_f64() * 1e3)?;
         }
         Ok(dict)
@@ -376,7 +407,8 @@ impl Extraction {
     /// The polygon (index into :attr:`polygons`) of every input point, ``-1`` for none:
     /// an int32 ``(H, W)`` image for organized input, else ``(N,)``.
     fn point_labels<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let labels = py.detach(|| self.inner.point_labels());
+        let inner = self.read_mesh()?;
+        let labels = py.detach(|| inner.point_labels());
         self.labels(py, labels)
     }
 
@@ -384,7 +416,8 @@ impl Extraction {
     /// polygon's ``plane_id``, plus the rim points refinement assigns): what a plane
     /// segmentation is scored on.
     fn plane_labels<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let labels = py.detach(|| self.inner.plane_labels());
+        let inner = self.read_mesh()?;
+        let labels = py.detach(|| inner.plane_labels());
         self.labels(py, labels)
     }
 
@@ -398,7 +431,7 @@ impl Extraction {
         } else {
             PolygonSet::Extracted
         };
-        py.detach(|| feature_collection(&self.inner, self.dims == 3, set))
+        py.detach(|| feature_collection(&self.read(), self.dims == 3, set))
     }
 
     /// The FeatureCollection of :meth:`geojson` as a mapping.
@@ -416,13 +449,21 @@ impl Extraction {
     }
 
     fn __repr__(&self) -> String {
-        let c = &self.inner.diagnostics.counts;
+        let inner = self.read();
+        let c = &inner.diagnostics.counts;
         format!(
             "Extraction({} polygons, {} holes, {} post-processed, {:.2} ms)",
-            self.inner.polygons.len(),
+            inner.polygons.len(),
             c.holes,
-            self.inner.postprocessed.len(),
-            self.inner.diagnostics.timings.total().as_secs_f64() * 1e3
+            inner.postprocessed.len(),
+            inner.diagnostics.timings.total().as_secs_f64() * 1e3
         )
     }
+}
+
+/// What asking a recycled extraction for its mesh raises.
+fn recycled_error() -> PyErr {
+    pyo3::exceptions::PyValueError::new_err(
+        "this extraction's mesh was handed back with Polylidar.recycle",
+    )
 }

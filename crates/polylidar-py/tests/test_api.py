@@ -90,6 +90,27 @@ def test_organized_planes_and_labels():
     assert mesh.triangles.dtype == np.uint32 and mesh.triangle_normals.shape == (mesh.num_triangles, 3)
 
 
+def test_recycled_extractions_give_the_same_results():
+    cloud = box_corner()
+    pl = pr.Polylidar(**ORGANIZED)
+    fresh = pr.Polylidar(**ORGANIZED).extract_organized(cloud)
+    first = pl.extract_organized(cloud)
+    pl.recycle(first)
+    # The polygons stay; what needs the mesh says it is gone.
+    assert len(first.polygons) == len(fresh.polygons)
+    for needs_mesh in (lambda: first.mesh, first.point_labels, first.plane_labels):
+        with pytest.raises(ValueError, match="recycle"):
+            needs_mesh()
+    with pytest.raises(ValueError, match="recycle"):
+        pl.recycle(first)
+    again = pl.extract_organized(cloud)
+    assert len(again.polygons) == len(fresh.polygons)
+    for a, b in zip(again.polygons, fresh.polygons):
+        assert np.array_equal(a.shell, b.shell)
+    assert np.array_equal(again.point_labels(), fresh.point_labels())
+    assert np.array_equal(again.mesh.triangles, fresh.mesh.triangles)
+
+
 def test_dtype_errors_name_what_is_expected():
     pl = pr.Polylidar(lmax=1.5)
     with pytest.raises(TypeError, match=r"float64 or float32"):

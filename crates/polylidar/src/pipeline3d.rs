@@ -65,12 +65,13 @@ impl Polylidar {
     }
 
     /// Hands a finished extraction back so that the next organized frame is meshed into
-    /// its mesh's arrays (vertices, triangles and twins, and normals where meshing computes
-    /// them, that is without the bilateral filter) instead of fresh memory, which would
-    /// first have to be allocated and cleared: for a stream of frames of one shape (a
-    /// 424 × 240 depth frame has about 8 MB of them). Results are the same either way; a
-    /// mesh of another shape is grown or cut to fit. The extraction's polygons are
-    /// dropped with it.
+    /// its mesh's arrays (triangles and twins; vertices unless both filters run on the
+    /// CPU, whose smoothed points move into the mesh; normals where meshing computes them,
+    /// that is without the bilateral filter) instead of fresh memory, which would first
+    /// have to be allocated and cleared: for a stream of frames of one shape (a 424 × 240
+    /// depth frame has about 8 MB of them). Results are the same either way; a mesh of
+    /// another shape is grown or cut to fit. The extraction's polygons are dropped with
+    /// it.
     ///
     /// ```
     /// use polylidar::{Config, OrganizedPointCloud, Polylidar};
@@ -89,7 +90,12 @@ impl Polylidar {
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
     pub fn recycle(&self, extraction: Extraction) {
-        reuse::lock(&self.reuse).recycled = Some(extraction.mesh);
+        self.recycle_mesh(extraction.mesh);
+    }
+
+    /// [`Self::recycle`] for the mesh alone (any mesh: only its arrays are reused).
+    pub fn recycle_mesh(&self, mesh: HalfEdgeMesh) {
+        reuse::lock(&self.reuse).recycled = Some(mesh);
     }
 
     /// The organized pipeline on `input`, which is `owned` viewed when the caller owns it.
