@@ -353,7 +353,7 @@ pub(crate) fn widen_units([x, y, z]: [&[f32]; 3], out: &mut [[f64; UNIT_BLOCK]; 
         let v = [x[i], y[i], z[i]].map(f64::from);
         let len2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
         let delta = len2 - 1.0;
-        let factor = 1.0 - delta * (0.5 - 0.375 * delta);
+        let factor = series(delta);
         [ox[i], oy[i], oz[i]] = v.map(|c| c * factor);
         exact |= (delta.abs() >= SERIES_RANGE) & (len2 > 0.0);
     }
@@ -379,13 +379,19 @@ fn to_unit_f64(n: [f32; 3]) -> [f64; 3] {
     let len2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
     let delta = len2 - 1.0;
     let factor = if delta.abs() < SERIES_RANGE {
-        1.0 - delta * (0.5 - 0.375 * delta)
+        series(delta)
     } else if len2 > 0.0 {
         1.0 / len2.sqrt()
     } else {
         1.0
     };
     v.map(|x| x * factor)
+}
+
+/// `1/√(1 + δ)` to second order, `1 − δ/2 + 3δ²/8` (see [`to_unit_f64`]).
+#[inline(always)]
+fn series(delta: f64) -> f64 {
+    1.0 - delta * (0.5 - 0.375 * delta)
 }
 
 #[cfg(test)]
@@ -443,8 +449,6 @@ mod tests {
         out
     }
 
-    /// The series for nearly unit normals gives the exact renormalisation to the last
-    /// bit or two; zero stays zero, and far from unit length the exact path runs.
     /// Blocks of unit, zero and NaN normals take the vectorised series; one normal far
     /// from unit length sends its block to the square root. Either way the bits are those
     /// of `to_unit_f64` normal by normal.
@@ -464,6 +468,8 @@ mod tests {
         }
     }
 
+    /// The series for nearly unit normals gives the exact renormalisation to the last
+    /// bit or two; zero stays zero, and far from unit length the exact path runs.
     #[test]
     fn widened_normals_are_unit_in_f64() {
         let exact = |n: [f32; 3]| {

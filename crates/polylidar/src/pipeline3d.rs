@@ -421,7 +421,7 @@ fn smooth_on_gpu(
 
 /// What became of the cloud that [`smooth_on_cpu`] smoothed.
 enum SmoothedCloud<'a> {
-    /// Still a cloud: the input itself when no pass ran.
+    /// Still a cloud: when no pass ran, the input (or its copy).
     Kept(Cow<'a, OrganizedPointCloud>),
     /// Moved into the mesh, with this many valid points.
     Moved { valid: usize },
@@ -443,37 +443,33 @@ fn smooth_on_cpu<'a>(
     let storage = reuse.mesh_storage();
     let start = Instant::now();
     let (iterations, passes) = laplacian_passes(l, &cloud);
-    if iterations == 0 {
-        timings.record("laplacian", start.elapsed());
-        let mut opc = timings.time("mesh", || cloud.mesh_reusing(options, storage))?;
-        timings.time("bilateral", || {
-            reuse.bilateral(b.backend, &cloud, &b.options(), &mut opc)
-        })?;
-        return Ok((0, opc, SmoothedCloud::Kept(cloud)));
-    }
-    let cpu = reuse.cpu(l.backend);
-    let smoothed = cpu.laplacian_smoothed(cloud, &l.options(iterations), passes.as_deref())?;
+    let cloud = if iterations == 0 {
+        cloud
+    } else {
+        let cpu = reuse.cpu(l.backend);
+        let smoothed = cpu.laplacian_smoothed(cloud, &l.options(iterations), passes.as_deref())?;
+        match smoothed.into_parts() {
+            Ok((smoothed, mut planes)) => {
+                timings.record("laplacian", start.elapsed());
+                let valid = smoothed.num_valid();
+                let mut opc =
+                    timings.time("mesh", || smoothed.into_mesh_reusing(options, storage))?;
+                timings.time("bilateral", || {
+                    planes.bilateral_into_mesh(&b.options(), &mut opc)
+                })?;
+                return Ok((iterations, opc, SmoothedCloud::Moved { valid }));
+            }
+            // No pass ran (per-pixel counts all zero, or a grid within the kernel): the
+            // bilateral filter reads the cloud.
+            Err(smoothed) => Cow::Owned(smoothed.into_cloud()),
+        }
+    };
     timings.record("laplacian", start.elapsed());
-    match smoothed.into_parts() {
-        Ok((smoothed, mut planes)) => {
-            let valid = smoothed.num_valid();
-            let mut opc = timings.time("mesh", || smoothed.into_mesh_reusing(options, storage))?;
-            timings.time("bilateral", || {
-                planes.bilateral_into_mesh(&b.options(), &mut opc)
-            })?;
-            Ok((iterations, opc, SmoothedCloud::Moved { valid }))
-        }
-        // No pass ran (per-pixel counts all zero, or a grid within the kernel).
-        Err(mut smoothed) => {
-            let mut opc =
-                timings.time("mesh", || smoothed.cloud().mesh_reusing(options, storage))?;
-            timings.time("bilateral", || {
-                smoothed.bilateral_into_mesh(&b.options(), &mut opc)
-            })?;
-            let smoothed = Cow::Owned(smoothed.into_cloud());
-            Ok((iterations, opc, SmoothedCloud::Kept(smoothed)))
-        }
-    }
+    let mut opc = timings.time("mesh", || cloud.mesh_reusing(options, storage))?;
+    timings.time("bilateral", || {
+        reuse.bilateral(b.backend, &cloud, &b.options(), &mut opc)
+    })?;
+    Ok((iterations, opc, SmoothedCloud::Kept(cloud)))
 }
 
 /// Runs the Laplacian filter `l` on `cloud` (in place when it is owned), returning the
