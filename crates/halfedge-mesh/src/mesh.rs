@@ -168,6 +168,27 @@ impl HalfEdgeMesh {
         Ok(())
     }
 
+    /// Takes the triangle normals out, leaving the mesh without normals. A mesh built
+    /// without normals still hands over the allocation of the normals of the mesh its
+    /// arrays were recycled from, for [`Self::set_triangle_normals`] to refill.
+    ///
+    /// ```
+    /// use halfedge_mesh::HalfEdgeMesh;
+    ///
+    /// let vertices = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+    /// let mut mesh = HalfEdgeMesh::from_parts(vertices, vec![[0, 1, 2]], vec![u32::MAX; 3], vec![])?;
+    /// mesh.compute_triangle_normals();
+    /// let mut normals = mesh.take_triangle_normals();
+    /// assert_eq!((normals.as_slice(), mesh.triangle_normals()), (&[[0.0, 0.0, 1.0]][..], None));
+    /// normals[0] = [0.0, 0.0, -1.0];
+    /// mesh.set_triangle_normals(normals)?;
+    /// assert_eq!(mesh.triangle_normals(), Some(&[[0.0, 0.0, -1.0]][..]));
+    /// # Ok::<(), halfedge_mesh::MeshError>(())
+    /// ```
+    pub fn take_triangle_normals(&mut self) -> Vec<[f64; 3]> {
+        std::mem::take(&mut self.triangle_normals)
+    }
+
     /// Replaces the vertices (for example with smoothed ones) keeping the connectivity,
     /// and recomputes triangle normals if the mesh had them.
     ///

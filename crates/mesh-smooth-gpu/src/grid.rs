@@ -148,8 +148,9 @@ impl SlotNormals {
     /// or maps a triangle this filter found missing (another cloud).
     pub fn apply_to_opc_mesh(&self, opc: &mut OpcMesh) -> Result<(), SmoothError> {
         check_shape(opc, self.rows, self.cols)?;
-        let map = &opc.triangle_map;
-        let normals = self.for_triangle_map(map.as_slice(), opc.mesh.num_triangles())?;
+        let spare = spare_normals(opc);
+        let map = opc.triangle_map.as_slice();
+        let normals = self.normals_for_map(map, opc.mesh.num_triangles(), spare)?;
         set_mesh_normals(opc, normals)
     }
 
@@ -164,13 +165,23 @@ impl SlotNormals {
         triangle_map: &[u32],
         num_triangles: usize,
     ) -> Result<Vec<[f64; 3]>, SmoothError> {
+        self.normals_for_map(triangle_map, num_triangles, Vec::new())
+    }
+
+    /// [`Self::for_triangle_map`] written into `buffer`'s allocation where it can be.
+    fn normals_for_map(
+        &self,
+        triangle_map: &[u32],
+        num_triangles: usize,
+        buffer: Vec<[f64; 3]>,
+    ) -> Result<Vec<[f64; 3]>, SmoothError> {
         if triangle_map.len() != self.normals.len() {
             return Err(SmoothError::BadTriangleMap {
                 slot: triangle_map.len().min(self.normals.len()),
                 reason: "the map's length is not the number of slots",
             });
         }
-        if let Some(out) = self.in_slot_order(triangle_map, num_triangles) {
+        if let Some(out) = self.in_slot_order(triangle_map, num_triangles, buffer) {
             return Ok(out);
         }
         let mut out = vec![[f64::NAN; 3]; num_triangles];
@@ -206,8 +217,13 @@ impl SlotNormals {
     /// [`Self::for_triangle_map`] in two parallel passes when the map numbers the
     /// triangles of present slots 0, 1, 2, … in slot order, as `opc_mesh` builds it (see
     /// [`in_slot_order`]).
-    fn in_slot_order(&self, triangle_map: &[u32], num_triangles: usize) -> Option<Vec<[f64; 3]>> {
-        in_slot_order(triangle_map, num_triangles, |chunk, map, gather| {
+    fn in_slot_order(
+        &self,
+        triangle_map: &[u32],
+        num_triangles: usize,
+        buffer: Vec<[f64; 3]>,
+    ) -> Option<Vec<[f64; 3]>> {
+        in_slot_order(triangle_map, num_triangles, buffer, |chunk, map, gather| {
             let normals = &self.normals[chunk * SLOT_CHUNK..][..map.len()];
             for (&n, &t) in normals.iter().zip(map) {
                 gather.slot(to_unit_f64(n), !n[0].is_nan(), t);
@@ -224,10 +240,12 @@ impl SlotNormals {
 ///
 /// Two parallel passes over chunks of [`SLOT_CHUNK`] slots: one counts each chunk's mapped
 /// slots; in the other, `gather(chunk, map, gather)` hands [`Gather::slot`] every slot of
-/// chunk `chunk` (`map` its part of the map) in order, which writes the output.
+/// chunk `chunk` (`map` its part of the map) in order, which writes the output. The
+/// output reuses `buffer`'s allocation (its contents are dropped).
 pub(crate) fn in_slot_order(
     triangle_map: &[u32],
     num_triangles: usize,
+    buffer: Vec<[f64; 3]>,
     gather: impl Fn(usize, &[u32], &mut Gather<'_>) + Sync,
 ) -> Option<Vec<[f64; 3]>> {
     let counts: Vec<usize> = triangle_map
@@ -238,8 +256,10 @@ pub(crate) fn in_slot_order(
         return None;
     }
     // Written straight into its spare capacity, chunk by chunk, from several threads:
-    // no pass that only initialises it.
-    let mut out = Vec::with_capacity(num_triangles);
+    // no pass that only initialises it. A reused allocation's pages are already mapped.
+    let mut out = buffer;
+    out.clear();
+    out.reserve(num_triangles);
     let mut parts = Vec::with_capacity(counts.len());
     let (mut rest, mut first) = (&mut out.spare_capacity_mut()[..num_triangles], 0);
     for count in counts {
@@ -304,6 +324,16 @@ impl Gather<'_> {
             slot.write(unit);
         }
         self.next += usize::from(mapped);
+    }
+}
+
+/// The allocation of a mesh's normals, to be refilled, when the mesh has none (as
+/// `opc_mesh` leaves a mesh built without normals into an earlier mesh's arrays: the
+/// earlier normals' allocation, emptied); an empty vector when it has normals, which stay.
+pub(crate) fn spare_normals(opc: &mut OpcMesh) -> Vec<[f64; 3]> {
+    match opc.mesh.triangle_normals() {
+        None => opc.mesh.take_triangle_normals(),
+        Some(_) => Vec::new(),
     }
 }
 
@@ -525,14 +555,25 @@ mod tests {
             .collect();
         let n = next as usize;
         let want = reference(&normals, &in_order, n);
-        assert!(normals.in_slot_order(&in_order, n).is_some());
+        assert_eq!(
+            normals.in_slot_order(&in_order, n, Vec::new()).as_ref(),
+            Some(&want)
+        );
+        // A reused allocation, longer or shorter, with stale contents: the same normals.
+        for stale in [n + 3, n / 2] {
+            let buffer = vec![[7.0; 3]; stale];
+            assert_eq!(
+                normals.in_slot_order(&in_order, n, buffer).as_ref(),
+                Some(&want)
+            );
+        }
         assert_eq!(normals.for_triangle_map(&in_order, n), Ok(want));
         // Triangles numbered backwards: the serial pass.
         let backwards: Vec<u32> = in_order
             .iter()
             .map(|&t| if t == NO_TRIANGLE { t } else { next - 1 - t })
             .collect();
-        assert!(normals.in_slot_order(&backwards, n).is_none());
+        assert!(normals.in_slot_order(&backwards, n, Vec::new()).is_none());
         assert_eq!(
             normals.for_triangle_map(&backwards, n),
             Ok(reference(&normals, &backwards, n))

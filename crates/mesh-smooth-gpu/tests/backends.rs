@@ -209,7 +209,8 @@ proptest! {
     /// `laplacian_smoothed` then `Smoothed::bilateral_into_mesh`, which starts from the
     /// Laplacian's own planes, gives the cloud and the normals of the two filters one
     /// after the other, owned or borrowed, with uniform or per-pixel passes (zero
-    /// included: nothing to reuse), on both CPU backends.
+    /// included: nothing to reuse), on both CPU backends; the planes count the cloud's
+    /// valid points.
     #[test]
     fn smoothed_bilateral_matches_the_two_filters(
         rows in 3usize..30, cols in 3usize..30, seed in any::<u64>(), holes in 0.0f64..0.4,
@@ -256,6 +257,7 @@ proptest! {
             let parts = smooth(&mut smoother, &cloud, owned, &laplacian, passes).into_parts();
             prop_assert_eq!(parts.is_ok(), runs);
             if let Ok((cloud, mut planes)) = parts {
+                prop_assert_eq!(planes.num_valid(), cloud.num_valid());
                 let mut got = cloud.into_mesh(&mesh_options).expect("meshed above");
                 planes.bilateral_into_mesh(&bilateral, &mut got).expect("the same cloud");
                 prop_assert_eq!(normal_bits(got.mesh.triangle_normals()), expected_normals);

@@ -451,7 +451,7 @@ fn smooth_on_cpu<'a>(
         match smoothed.into_parts() {
             Ok((smoothed, mut planes)) => {
                 timings.record("laplacian", start.elapsed());
-                let valid = smoothed.num_valid();
+                let valid = planes.num_valid();
                 let mut opc =
                     timings.time("mesh", || smoothed.into_mesh_reusing(options, storage))?;
                 timings.time("bilateral", || {

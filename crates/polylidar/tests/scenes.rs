@@ -472,5 +472,13 @@ fn recycled_extractions_give_the_results_of_fresh_runs() {
             assert!(!got.polygons.is_empty());
             recycling.recycle(got);
         }
+        // A frame of the last one's size: its normals refill the recycled allocation.
+        let normals_at = |e: &polylidar::Extraction| e.mesh.triangle_normals().map(<[_]>::as_ptr);
+        let again = recycling.extract_organized(&frames[0]).expect("extraction");
+        let before = normals_at(&again);
+        recycling.recycle(again);
+        let again = recycling.extract_organized(&frames[0]).expect("extraction");
+        assert!(before.is_some());
+        assert_eq!(normals_at(&again), before);
     }
 }

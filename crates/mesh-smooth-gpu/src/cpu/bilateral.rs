@@ -88,12 +88,13 @@ impl Filtered<'_> {
         &self,
         triangle_map: &[u32],
         num_triangles: usize,
+        buffer: Vec<[f64; 3]>,
     ) -> Option<Vec<[f64; 3]>> {
         let slots = TRIANGLES_PER_CELL * self.masks[0].len();
         if triangle_map.len() != slots {
             return None;
         }
-        in_slot_order(triangle_map, num_triangles, |chunk, map, gather| {
+        in_slot_order(triangle_map, num_triangles, buffer, |chunk, map, gather| {
             // Chunks hold whole cells (an even number of slots).
             let start = chunk * SLOT_CHUNK / TRIANGLES_PER_CELL;
             let cells = start..start + map.len() / TRIANGLES_PER_CELL;

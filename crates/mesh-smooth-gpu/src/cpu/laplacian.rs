@@ -15,6 +15,8 @@ pub(crate) struct LaplacianWork {
     /// Whether the last run filtered anything, and then whether its output is in the
     /// second triple x, y, z (an odd number of passes).
     output: Option<bool>,
+    /// The valid points of the cloud the last run filtered.
+    valid_points: usize,
 }
 
 impl LaplacianWork {
@@ -22,6 +24,12 @@ impl LaplacianWork {
     /// output are those with the `second` triple x, y, z ([`Self::planes_at`]).
     pub(crate) fn output(&self) -> Option<bool> {
         self.output
+    }
+
+    /// The valid points of the cloud the last run filtered (counted as it was read),
+    /// when it filtered anything ([`Self::output`]).
+    pub(crate) fn valid_points(&self) -> usize {
+        self.valid_points
     }
 
     /// The point planes x, y, z and mask (see [`Planes`](super::Planes)) with the first
@@ -151,7 +159,7 @@ fn filter<'a>(
     });
     work.planes.resize(cloud.points().len());
     let [x, y, z, m, nx, ny, nz, weight_sums] = work.planes.planes_mut();
-    fill_planes(cloud.points(), cols, parallel, [x, y, z, m]);
+    work.valid_points = fill_planes(cloud.points(), cols, parallel, [x, y, z, m]);
     // A pixel is written back if the kernel filtered it in its last pass. Every pass
     // writes every row's sums but for the rows that per-pixel counts skip from the first
     // pass on, which are never written.

@@ -60,13 +60,13 @@ impl Planes {
 }
 
 /// Writes `points` (rows of `cols`) into x, y, z planes rounded to `f32` and a validity
-/// mask (see [`Planes`]); each plane has one entry per point.
+/// mask (see [`Planes`]); each plane has one entry per point. Returns the valid points.
 pub(crate) fn fill_planes(
     points: &[[f64; 3]],
     cols: usize,
     parallel: bool,
     [x, y, z, m]: [&mut [f32]; 4],
-) {
+) -> usize {
     (
         x.par_chunks_mut(cols),
         y.par_chunks_mut(cols),
@@ -76,14 +76,17 @@ pub(crate) fn fill_planes(
     )
         .into_par_iter()
         .with_min_len(min_rows_per_task(parallel))
-        .for_each(|(x, y, z, m, row)| fill_row(row, [x, y, z, m]));
+        .map(|(x, y, z, m, row)| fill_row(row, [x, y, z, m]))
+        .sum()
 }
 
-/// One row of [`fill_planes`]; vectorised where the CPU allows.
+/// One row of [`fill_planes`], returning its valid points; vectorised where the CPU
+/// allows.
 #[multiversion::multiversion(targets("x86_64+avx512f+avx512vl+avx512bw+avx512dq", "x86_64+avx2"))]
-fn fill_row(row: &[[f64; 3]], [x, y, z, m]: [&mut [f32]; 4]) {
+fn fill_row(row: &[[f64; 3]], [x, y, z, m]: [&mut [f32]; 4]) -> usize {
     let len = row.len();
     let (x, y, z, m) = (&mut x[..len], &mut y[..len], &mut z[..len], &mut m[..len]);
+    let mut valid_points = 0;
     for (i, p) in row.iter().enumerate() {
         // `opc_mesh::is_valid` written out: called across the crate boundary, it leaves
         // this loop scalar.
@@ -92,7 +95,9 @@ fn fill_row(row: &[[f64; 3]], [x, y, z, m]: [&mut [f32]; 4]) {
         y[i] = if valid { p[1] as f32 } else { 0.0 };
         z[i] = if valid { p[2] as f32 } else { 0.0 };
         m[i] = if valid { 1.0 } else { 0.0 };
+        valid_points += usize::from(valid);
     }
+    valid_points
 }
 
 /// `N` planes of equal length in one allocation, laid out so that their starts differ

@@ -284,8 +284,9 @@ fn into_mesh(
     cols: usize,
     opc: &mut OpcMesh,
 ) -> Result<(), SmoothError> {
+    let spare = crate::grid::spare_normals(opc);
     let map = opc.triangle_map.as_slice();
-    match filtered.in_slot_order(map, opc.mesh.num_triangles()) {
+    match filtered.in_slot_order(map, opc.mesh.num_triangles(), spare) {
         Some(normals) => crate::grid::set_mesh_normals(opc, normals),
         None => {
             let mut slots = SlotNormals::default();
@@ -339,6 +340,7 @@ impl<'a> Smoothed<'a> {
             rows: self.cloud.rows(),
             cols: self.cloud.cols(),
             second,
+            valid_points: self.smoother.laplacian.valid_points(),
             smoother: self.smoother,
         };
         Ok((self.cloud, planes))
@@ -369,6 +371,7 @@ pub struct SmoothedPlanes<'a> {
     cols: usize,
     /// Which triple of the Laplacian's planes holds the smoothed points.
     second: bool,
+    valid_points: usize,
 }
 
 impl std::fmt::Debug for SmoothedPlanes<'_> {
@@ -381,6 +384,13 @@ impl std::fmt::Debug for SmoothedPlanes<'_> {
 }
 
 impl SmoothedPlanes<'_> {
+    /// The smoothed cloud's valid points, [`OrganizedPointCloud::num_valid`] (the filter
+    /// keeps them valid), counted as the Laplacian filter read the cloud: the cloud
+    /// itself may have moved into its mesh.
+    pub fn num_valid(&self) -> usize {
+        self.valid_points
+    }
+
     /// [`CpuSmoother::bilateral_into_mesh`] on the smoothed cloud, into its mesh.
     ///
     /// # Errors
