@@ -76,10 +76,8 @@ pub(crate) fn laplacian_in_place(
         .enumerate()
         .with_min_len(min_rows_per_task(parallel))
         .for_each(|(r, points)| {
-            for (i, p) in (r * cols..).zip(points) {
-                if let Some(q) = filtered.point(i) {
-                    *p = q;
-                }
+            for (p, (q, moved)) in points.iter_mut().zip(filtered.row(r, cols)) {
+                *p = if moved { q } else { *p };
             }
         });
 }
@@ -93,23 +91,30 @@ pub(crate) fn laplacian_copy(
     passes: Passes<'_>,
     parallel: bool,
 ) -> Vec<[f64; 3]> {
-    let source = cloud.points();
+    let (source, cols) = (cloud.points(), cloud.cols());
     let mut out = Vec::with_capacity(source.len());
     let Some(filtered) = filter(work, cloud, options, passes, parallel) else {
         out.extend_from_slice(source);
         return out;
     };
-    let point = |i: usize| filtered.point(i).unwrap_or(source[i]);
-    if parallel {
-        let rows = min_rows_per_task(parallel) * cloud.cols();
-        out.par_extend(
-            (0..source.len())
-                .into_par_iter()
-                .with_min_len(rows)
-                .map(point),
-        );
-    } else {
-        out.extend((0..source.len()).map(point));
+    // Written straight into the spare capacity, row by row from several threads, with
+    // no pass that only initialises it; the filtered and the kept points are chosen
+    // without a branch (invalid pixels are scattered).
+    out.spare_capacity_mut()[..source.len()]
+        .par_chunks_mut(cols)
+        .zip(source.par_chunks(cols))
+        .enumerate()
+        .with_min_len(min_rows_per_task(parallel))
+        .for_each(|(r, (slots, kept))| {
+            for ((slot, &p), (q, moved)) in slots.iter_mut().zip(kept).zip(filtered.row(r, cols)) {
+                slot.write(if moved { q } else { p });
+            }
+        });
+    #[allow(unsafe_code)]
+    // SAFETY: the rows cover the first `source.len()` elements of the spare capacity
+    // (`source` is `rows × cols` points), and every element of every row was written.
+    unsafe {
+        out.set_len(source.len());
     }
     out
 }
@@ -124,10 +129,22 @@ struct Filtered<'a> {
 }
 
 impl Filtered<'_> {
-    /// Point `i` widened, `None` where the filter left it as it was.
+    /// The points of row `r` (of `cols`) widened, each with whether the filter moved it
+    /// (where it did not, the caller keeps the point it had).
     #[inline]
-    fn point(&self, i: usize) -> Option<[f64; 3]> {
-        (self.weight_sums[i] > 0.0).then(|| [self.x[i], self.y[i], self.z[i]].map(f64::from))
+    fn row(&self, r: usize, cols: usize) -> impl Iterator<Item = ([f64; 3], bool)> + '_ {
+        let span = r * cols..(r + 1) * cols;
+        let (x, y, z) = (
+            &self.x[span.clone()],
+            &self.y[span.clone()],
+            &self.z[span.clone()],
+        );
+        let w = &self.weight_sums[span];
+        x.iter()
+            .zip(y)
+            .zip(z)
+            .zip(w)
+            .map(|(((&x, &y), &z), &w)| ([x, y, z].map(f64::from), w > 0.0))
     }
 }
 
