@@ -77,7 +77,9 @@ pub(crate) fn laplacian_in_place(
         .with_min_len(min_rows_per_task(parallel))
         .for_each(|(r, points)| {
             for (p, (q, moved)) in points.iter_mut().zip(filtered.row(r, cols)) {
-                *p = if moved { q } else { *p };
+                if moved {
+                    *p = q;
+                }
             }
         });
 }
@@ -99,7 +101,7 @@ pub(crate) fn laplacian_copy(
     };
     // Written straight into the spare capacity, row by row from several threads, with
     // no pass that only initialises it. A kept point is read only where the filter left
-    // it (a branch; choosing bit by bit, which reads every one, measured slower).
+    // it (a branch: a bit-by-bit choice, which reads every one, is slower).
     out.spare_capacity_mut()[..source.len()]
         .par_chunks_mut(cols)
         .zip(source.par_chunks(cols))
