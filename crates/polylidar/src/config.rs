@@ -103,7 +103,9 @@ pub struct Config {
     pub z_thresh: f64,
     /// Worker threads; `0` uses rayon's default (one per core). At most [`max_threads`]
     /// ([`MAX_THREADS_PER_CORE`] per core of the machine). Results are identical whatever
-    /// the count.
+    /// the count. While a run called from outside the pool lasts, a second worker polls
+    /// for work instead of sleeping between parallel stages (it gives up after 0.5 ms
+    /// without work): waking a sleeping worker can take longer than a stage.
     pub threads: usize,
     /// Organized clouds: Laplacian vertex smoothing before meshing; absent = off.
     pub laplacian: Option<LaplacianConfig>,

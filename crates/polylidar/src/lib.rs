@@ -50,6 +50,7 @@ pub mod misses;
 pub mod output;
 mod pipeline;
 mod pipeline3d;
+mod polling;
 mod preset;
 mod reuse;
 pub mod scale;

@@ -5,6 +5,7 @@ use plane_geom::vec3::unit;
 use polyextract::Extractor;
 use rayon::prelude::*;
 
+use crate::polling::install_polled;
 use crate::{Config, Counts, Decimation, Diagnostics, PolylidarError, Timings};
 
 /// A polygon with holes extracted from one region: point indices into the input, their
@@ -374,11 +375,10 @@ impl Polylidar {
         })
     }
 
+    /// Runs `f` in the pipeline's pool (rayon's global one with `threads` 0), a second
+    /// worker polling for work while it runs (see [`install_polled`]).
     pub(crate) fn install<T: Send>(&self, f: impl FnOnce() -> T + Send) -> T {
-        match &self.pool {
-            Some(pool) => pool.install(f),
-            None => f(),
-        }
+        install_polled(self.pool.as_ref(), f)
     }
 
     /// Filter (α test with `alpha`, which is 0 when the mesh is already an α-complex),
