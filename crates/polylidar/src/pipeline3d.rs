@@ -108,7 +108,10 @@ impl Polylidar {
             let config = self.config();
             let mut timings = Timings::default();
             let decimated = match &config.decimate {
-                Some(d) => timings.time("decimate", || d.apply(input))?,
+                Some(d) => {
+                    let points = reuse::lock(&self.reuse).take_recycled_vertices();
+                    timings.time("decimate", || d.apply(input, points))?
+                }
                 None => None,
             };
             let (mut decimated, decimation) = decimated.unzip();

@@ -53,6 +53,22 @@ impl Reusable {
         }
     }
 
+    /// The recycled mesh's vertex buffer (empty without one), for the next frame's
+    /// decimated points: its other arrays stay for meshing, which replaces the vertices.
+    pub fn take_recycled_vertices(&mut self) -> Vec<[f64; 3]> {
+        let Some(mesh) = self.recycled.take() else {
+            return Vec::new();
+        };
+        let (vertices, triangles, halfedges, normals) = mesh.into_parts();
+        self.recycled = Some(HalfEdgeMesh::from_parts_trusted(
+            Vec::new(),
+            triangles,
+            halfedges,
+            normals,
+        ));
+        vertices
+    }
+
     /// The kept smoother of `backend`, created on its first use.
     fn smoother(&mut self, backend: SmoothingBackend) -> Result<&mut dyn Smoother, SmoothError> {
         Ok(match backend {

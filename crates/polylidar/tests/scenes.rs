@@ -3,8 +3,8 @@
 #![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
 
 use polylidar::{
-    BilateralConfig, Config, DominantNormalsConfig, ExtractedPolygon, Extraction, LaplacianConfig,
-    OrganizedPointCloud, Polylidar, PolylidarError,
+    BilateralConfig, Config, DecimateConfig, DecimateFactor, DominantNormalsConfig,
+    ExtractedPolygon, Extraction, LaplacianConfig, OrganizedPointCloud, Polylidar, PolylidarError,
 };
 use synthscan::{
     FLOOR_LABEL, Noise, PinholeCamera, Pose, RampsConfig, RoomConfig, ScanResult, Scene,
@@ -458,7 +458,10 @@ fn recycled_extractions_give_the_results_of_fresh_runs() {
         .with_norm_thresh(0.95)
         .with_laplacian(Some(LaplacianConfig::default()))
         .with_bilateral(Some(BilateralConfig::default()));
-    for config in [config(), smoothed] {
+    let decimated = smoothed.clone().with_decimate(Some(
+        DecimateConfig::default().with_factor(DecimateFactor::Fixed(2)),
+    ));
+    for config in [config(), smoothed, decimated] {
         let recycling = Polylidar::new(config.clone()).expect("config");
         for cloud in &frames {
             let fresh = Polylidar::new(config.clone())
@@ -472,13 +475,19 @@ fn recycled_extractions_give_the_results_of_fresh_runs() {
             assert!(!got.polygons.is_empty());
             recycling.recycle(got);
         }
-        // A frame of the last one's size: its normals refill the recycled allocation.
+        // A frame of the last one's size: its normals refill the recycled allocation,
+        // and so do the decimated points, which become the mesh's vertices.
         let normals_at = |e: &polylidar::Extraction| e.mesh.triangle_normals().map(<[_]>::as_ptr);
+        let vertices_at = |e: &polylidar::Extraction| e.mesh.vertices().as_ptr();
         let again = recycling.extract_organized(&frames[0]).expect("extraction");
-        let before = normals_at(&again);
+        let before = (normals_at(&again), vertices_at(&again));
         recycling.recycle(again);
         let again = recycling.extract_organized(&frames[0]).expect("extraction");
-        assert!(before.is_some());
-        assert_eq!(normals_at(&again), before);
+        assert!(before.0.is_some());
+        assert_eq!(normals_at(&again), before.0);
+        if config.decimate.is_some() {
+            assert!(again.decimation.is_some());
+            assert_eq!(vertices_at(&again), before.1);
+        }
     }
 }
