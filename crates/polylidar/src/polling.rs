@@ -121,9 +121,29 @@ mod tests {
 
     #[test]
     fn the_poller_runs_jobs_of_the_run_on_the_other_worker() {
-        // The limit is long so that a stalled machine cannot end the polling early.
-        let (sum, ran) = pool(2).install(|| run_polled(|| busy_sum(200), Duration::from_secs(30)));
-        assert_eq!(sum, 199 * 200 / 2);
+        // The run lasts until a job of it ran on the other worker, which took the poller
+        // first (the oldest job); an hour's limit keeps a stalled machine from ending
+        // the polling before.
+        let (runs, ran) = pool(2).install(|| {
+            run_polled(
+                || {
+                    let home = rayon::current_thread_index();
+                    let mut runs = 0;
+                    loop {
+                        runs += 1;
+                        assert_eq!(busy_sum(4), 6);
+                        let elsewhere = (0..2)
+                            .into_par_iter()
+                            .any(|_| rayon::current_thread_index() != home);
+                        if elsewhere {
+                            return runs;
+                        }
+                    }
+                },
+                Duration::from_secs(3600),
+            )
+        });
+        assert!(runs > 0);
         assert!(ran > 0, "the poller ran none of the run's jobs");
     }
 
