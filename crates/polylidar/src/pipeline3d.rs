@@ -95,7 +95,7 @@ impl Polylidar {
 
     /// [`Self::recycle`] for the mesh alone (any mesh: only its arrays are reused).
     pub fn recycle_mesh(&self, mesh: HalfEdgeMesh) {
-        reuse::lock(&self.reuse).recycled = Some(mesh);
+        reuse::lock(&self.reuse).organized.recycled = Some(mesh);
     }
 
     /// The organized pipeline on `input`, which is `owned` viewed when the caller owns it.
@@ -107,15 +107,15 @@ impl Polylidar {
         self.install(|| {
             let config = self.config();
             let mut timings = Timings::default();
+            let mut reuse = reuse::Organized::take_from(&self.reuse);
             let decimated = match &config.decimate {
                 Some(d) => {
-                    let points = reuse::lock(&self.reuse).take_recycled_vertices();
+                    let points = reuse.take_recycled_vertices();
                     timings.time("decimate", || d.apply(input, points))?
                 }
                 None => None,
             };
             let (mut decimated, decimation) = decimated.unzip();
-            let mut reuse = reuse::lock(&self.reuse);
             // The cloud the filters read (they take an owned cloud): the decimated one,
             // which they then change in place, the caller's, or a copy of a borrowed one;
             // `None` without smoothing, meshing the input itself.
@@ -181,7 +181,8 @@ impl Polylidar {
             };
             let OpcMesh { mesh, triangle_map } = opc;
             reuse.triangle_map = Some(triangle_map);
-            // `extract_planes` takes the lock again for FastGA.
+            // Put back now: a run at the same time can smooth with it while this one
+            // extracts planes.
             drop(reuse);
             let filled_count = filled.iter().filter(|&&f| f).count();
             let grid_points = moved_valid.unwrap_or_else(|| {
@@ -361,14 +362,18 @@ impl Polylidar {
             return Ok(Vec::new());
         }
         let config = self.config().fastga.config_for(normals.len());
-        let mut reuse = reuse::lock(&self.reuse);
-        let fastga = match reuse.fastga.as_mut() {
+        // Taken out for the detection (see `reuse::Reusable`): a run at the same time
+        // builds its own.
+        let taken = reuse::lock(&self.reuse).fastga.take();
+        let mut fastga = match taken {
             Some(fastga) => fastga,
-            None => reuse.fastga.insert(FastGa::new(config)?),
+            None => FastGa::new(config)?,
         };
-        fastga.set_sample_fraction(config.sample_fraction)?;
-        let found = fastga.detect(normals)?;
-        Ok(found.normals.iter().map(|d| d.normal).collect())
+        let found = fastga
+            .set_sample_fraction(config.sample_fraction)
+            .and_then(|()| fastga.detect(normals));
+        reuse::lock(&self.reuse).fastga.get_or_insert(fastga);
+        Ok(found?.normals.iter().map(|d| d.normal).collect())
     }
 }
 
@@ -392,7 +397,7 @@ fn laplacian_passes(l: &LaplacianConfig, cloud: &OrganizedPointCloud) -> (u32, O
 /// cloud is back), `mesh` and `bilateral` (the rest) stages; returns the Laplacian passes
 /// and the mesh.
 fn smooth_on_gpu(
-    reuse: &mut reuse::Reusable,
+    reuse: &mut reuse::Organized,
     l: &LaplacianConfig,
     b: &BilateralConfig,
     cloud: &mut Cow<'_, OrganizedPointCloud>,
@@ -436,7 +441,7 @@ enum SmoothedCloud<'a> {
 /// instead of being copied). Records the `laplacian`, `mesh` and `bilateral` stages;
 /// returns the Laplacian passes, the mesh and what became of the cloud.
 fn smooth_on_cpu<'a>(
-    reuse: &mut reuse::Reusable,
+    reuse: &mut reuse::Organized,
     l: &LaplacianConfig,
     b: &BilateralConfig,
     cloud: Cow<'a, OrganizedPointCloud>,
@@ -478,7 +483,7 @@ fn smooth_on_cpu<'a>(
 /// Runs the Laplacian filter `l` on `cloud` (in place when it is owned), returning the
 /// passes run (see [`laplacian_passes`]).
 fn laplacian(
-    reuse: &mut reuse::Reusable,
+    reuse: &mut reuse::Organized,
     l: &LaplacianConfig,
     cloud: &mut Cow<'_, OrganizedPointCloud>,
 ) -> Result<u32, SmoothError> {

@@ -18,23 +18,20 @@ use crate::SmoothingBackend;
 /// Detectors and buffers reused across runs. Every use starts from a clean state (the
 /// accumulator is cleared, buffers are overwritten), so results do not depend on what ran
 /// before.
+///
+/// A run takes what it needs out of the shared slot and puts it back when done; the lock
+/// is held only for those moves, never while the run computes. A run's thread is a rayon
+/// worker, which while waiting inside its run may start another run: had the first run
+/// held the lock, the second would wait for it on the same thread forever. A run that
+/// finds a part taken (by a run going on at the same time) makes its own.
 #[derive(Debug, Default)]
 pub(crate) struct Reusable {
     /// The FastGA detector, built on the first 3D run.
     pub fastga: Option<FastGa>,
-    /// CPU smoothers: one thread, rayon.
-    smoothers: [Option<CpuSmoother>; 2],
-    /// The GPU smoother (adapter, device, compiled pipelines, buffers of the last frame
-    /// shape), created on the first GPU run and kept: a stream of frames asks for one
-    /// adapter.
-    gpu: Option<GpuSmoother>,
     /// Planar segmentation's per-triangle buffers.
     pub segmenter: Segmenter,
-    /// The arrays of a mesh handed back by [`crate::Polylidar::recycle`], to mesh the next
-    /// organized frame into.
-    pub recycled: Option<HalfEdgeMesh>,
-    /// The last organized frame's triangle map, storage for the next one's.
-    pub triangle_map: Option<TriangleMap>,
+    /// The organized pipeline's smoothers and frame buffers.
+    pub organized: Organized,
 }
 
 /// The shared slot; a run that panicked while holding it left nothing that the next
@@ -43,7 +40,58 @@ pub(crate) fn lock(slot: &Mutex<Reusable>) -> MutexGuard<'_, Reusable> {
     slot.lock().unwrap_or_else(PoisonError::into_inner)
 }
 
-impl Reusable {
+/// The organized pipeline's part of [`Reusable`], taken out of the shared slot for a
+/// run by [`Organized::take_from`].
+#[derive(Debug, Default)]
+pub(crate) struct Organized {
+    /// CPU smoothers: one thread, rayon.
+    smoothers: [Option<CpuSmoother>; 2],
+    /// The GPU smoother (adapter, device, compiled pipelines, buffers of the last frame
+    /// shape), created on the first GPU run and kept: a stream of frames asks for one
+    /// adapter.
+    gpu: Option<GpuSmoother>,
+    /// The arrays of a mesh handed back by [`crate::Polylidar::recycle`], to mesh the next
+    /// organized frame into.
+    pub recycled: Option<HalfEdgeMesh>,
+    /// The last organized frame's triangle map, storage for the next one's.
+    pub triangle_map: Option<TriangleMap>,
+}
+
+/// [`Organized`] taken out of a shared slot, put back when dropped (also when the run
+/// fails or unwinds).
+pub(crate) struct Taken<'a> {
+    slot: &'a Mutex<Reusable>,
+    state: Organized,
+}
+
+impl Organized {
+    /// Takes the organized part out of `slot` for one run.
+    pub fn take_from(slot: &Mutex<Reusable>) -> Taken<'_> {
+        let state = std::mem::take(&mut lock(slot).organized);
+        Taken { slot, state }
+    }
+
+    /// Moves `other`'s parts into the places of this one that are empty; returns what
+    /// did not fit (parts that two runs at once each made).
+    fn fill_from(&mut self, mut other: Self) -> Self {
+        for (mine, theirs) in self.smoothers.iter_mut().zip(&mut other.smoothers) {
+            if mine.is_none() {
+                *mine = theirs.take();
+            }
+        }
+        if self.gpu.is_none() {
+            self.gpu = other.gpu.take();
+        }
+        // A mesh recycled while the run went on is newer than the run's.
+        if self.recycled.is_none() {
+            self.recycled = other.recycled.take();
+        }
+        if self.triangle_map.is_none() {
+            self.triangle_map = other.triangle_map.take();
+        }
+        other
+    }
+
     /// Storage to mesh the next organized frame into: the recycled mesh's arrays and the
     /// last triangle map, or empty arrays.
     pub fn mesh_storage(&mut self) -> OpcMesh {
@@ -158,5 +206,28 @@ impl Reusable {
                 .apply_to_opc_mesh(opc),
             cpu => self.cpu(cpu).bilateral_into_mesh(cloud, options, opc),
         }
+    }
+}
+
+impl std::ops::Deref for Taken<'_> {
+    type Target = Organized;
+
+    fn deref(&self) -> &Organized {
+        &self.state
+    }
+}
+
+impl std::ops::DerefMut for Taken<'_> {
+    fn deref_mut(&mut self) -> &mut Organized {
+        &mut self.state
+    }
+}
+
+impl Drop for Taken<'_> {
+    fn drop(&mut self) {
+        let state = std::mem::take(&mut self.state);
+        let left = lock(self.slot).organized.fill_from(state);
+        // Dropped after the lock is released (a GPU smoother's teardown can take a while).
+        drop(left);
     }
 }

@@ -430,6 +430,46 @@ fn a_pipeline_can_be_shared_between_threads() {
     });
 }
 
+/// Many runs at once on one pipeline, with both filters and with its own pool or rayon's
+/// global one: every run finishes with the output of a run alone. A worker that waited
+/// inside one run while another run's start waited for the first run's state would
+/// deadlock here.
+#[test]
+fn concurrent_runs_on_one_pipeline_all_finish() {
+    let scene = Scene::room(&RoomConfig::default()).expect("room");
+    let room = cloud(&scan(
+        &scene,
+        [3.0, 0.3, 2.6],
+        [3.2, 3.0, 0.0],
+        &Noise::new(0.004, 0.0, 7),
+    ));
+    let smoothed = config()
+        .with_z_thresh(0.05)
+        .with_norm_thresh(0.95)
+        .with_laplacian(Some(LaplacianConfig::default()))
+        .with_bilateral(Some(BilateralConfig::default()));
+    for threads in [2, 0] {
+        let shared = Polylidar::new(smoothed.clone().with_threads(threads)).expect("config");
+        let alone = shared.extract_organized(&room).expect("extraction");
+        std::thread::scope(|s| {
+            let runs: Vec<_> = (0..4)
+                .map(|_| {
+                    s.spawn(|| {
+                        (0..6)
+                            .map(|_| shared.extract_organized(&room).expect("extraction"))
+                            .collect::<Vec<_>>()
+                    })
+                })
+                .collect();
+            for run in runs {
+                for got in run.join().expect("no panic") {
+                    assert_eq!(got.polygons, alone.polygons);
+                }
+            }
+        });
+    }
+}
+
 /// Frames meshed into a recycled extraction's arrays (and the previous triangle map)
 /// give the extraction of a fresh run, through a stream whose shape changes (the arrays
 /// grow and shrink), with both filters on and without them.
