@@ -255,7 +255,8 @@ impl Extraction {
 ///
 /// Build it once and reuse it frame after frame: it keeps its thread pool, the FastGA
 /// accumulator and the smoothers' buffers between runs (results never depend on earlier
-/// runs). It is `Sync`; runs from several threads at once take turns on those stages.
+/// runs). It is `Sync`; a run takes those out for its length, and a run from another
+/// thread at the same time builds its own.
 ///
 /// ```
 /// use polylidar::{Config, Polylidar};
@@ -277,8 +278,8 @@ pub struct Polylidar {
     pool: Option<rayon::ThreadPool>,
     /// Kept between 3D runs: the FastGA detector (building its accumulator costs more
     /// than integrating a frame's normals; fastga's README has the figures) and the
-    /// smoothers' buffers.
-    /// Runs on one `Polylidar` from several threads take turns on these stages.
+    /// smoothers' buffers. A run takes what it uses out of the slot and puts it back
+    /// (see [`crate::reuse::Reusable`]).
     pub(crate) reuse: std::sync::Mutex<crate::reuse::Reusable>,
 }
 
