@@ -144,18 +144,19 @@ impl DecimateConfig {
         Ok(())
     }
 
-    /// The decimated cloud, its points written into `points`, and how its grid maps
-    /// onto `input`'s pixels; or `None` when the factor for this frame is 1.
+    /// The decimated cloud, its points written into the buffer `points` gives (asked
+    /// for only when the frame is decimated), and how its grid maps onto `input`'s
+    /// pixels; or `None` when the factor for this frame is 1.
     pub(crate) fn apply(
         &self,
         input: OrganizedPointCloudView<'_>,
-        points: Vec<[f64; 3]>,
+        points: impl FnOnce() -> Vec<[f64; 3]>,
     ) -> Result<Option<(OrganizedPointCloud, Decimation)>, OpcError> {
         let factor = self.factor_for(input.rows(), input.cols());
         if factor <= 1 {
             return Ok(None);
         }
-        let decimated = input.decimate_into(factor, self.range_tolerance, points)?;
+        let decimated = input.decimate_into(factor, self.range_tolerance, points())?;
         let decimation = Decimation {
             factor,
             rows: input.rows(),
@@ -334,7 +335,7 @@ mod tests {
         points[34] = [f64::NAN; 3]; // (4, 6)
         let view = OrganizedPointCloudView::new(5, 7, &points).unwrap();
         let config = DecimateConfig::default().with_factor(DecimateFactor::Fixed(2));
-        let (cloud, decimation) = config.apply(view, Vec::new()).unwrap().unwrap();
+        let (cloud, decimation) = config.apply(view, Vec::new).unwrap().unwrap();
         assert_eq!((cloud.rows(), cloud.cols()), (3, 4));
         let small: Vec<i32> = (0..12).collect();
         let labels = decimation.expand(&small);
@@ -357,7 +358,7 @@ mod tests {
         points[0] = [f64::NAN; 3];
         let view = OrganizedPointCloudView::new(3, 4, &points).unwrap();
         let config = DecimateConfig::default().with_factor(DecimateFactor::Fixed(2));
-        let (_, decimation) = config.apply(view, Vec::new()).unwrap().unwrap();
+        let (_, decimation) = config.apply(view, Vec::new).unwrap().unwrap();
         assert_eq!(decimation.grid(), (2, 2));
         assert_eq!(decimation.member_pixels(), 11);
         let colors: Vec<[u8; 3]> = (0..12u8).map(|i| [i, 10 * i, 255 - i]).collect();
@@ -393,12 +394,14 @@ mod tests {
     fn factor_one_leaves_the_cloud_alone() {
         let points = vec![[0.0, 0.0, 1.0]; 240 * 424];
         let view = OrganizedPointCloudView::new(240, 424, &points).unwrap();
-        assert!(
-            DecimateConfig::default()
-                .apply(view, Vec::new())
-                .unwrap()
-                .is_none()
-        );
+        // A frame left alone asks for no buffer (the recycled one stays for meshing).
+        let asked = std::cell::Cell::new(false);
+        let out = DecimateConfig::default().apply(view, || {
+            asked.set(true);
+            Vec::new()
+        });
+        assert!(out.unwrap().is_none());
+        assert!(!asked.get());
         // Auto never leaves fewer than 2 rows or columns.
         assert_eq!(DecimateConfig::default().factor_for(3, 5000), 1);
     }

@@ -109,10 +109,9 @@ impl Polylidar {
             let mut timings = Timings::default();
             let mut reuse = reuse::Organized::take_from(&self.reuse);
             let decimated = match &config.decimate {
-                Some(d) => {
-                    let points = reuse.take_recycled_vertices();
-                    timings.time("decimate", || d.apply(input, points))?
-                }
+                Some(d) => timings.time("decimate", || {
+                    d.apply(input, || reuse.take_recycled_vertices())
+                })?,
                 None => None,
             };
             let (mut decimated, decimation) = decimated.unzip();

@@ -40,6 +40,21 @@ fn cloud(scan: &ScanResult) -> OrganizedPointCloud {
     OrganizedPointCloud::new(scan.rows, scan.cols, scan.points.clone()).expect("cloud")
 }
 
+/// The default room scanned from the corner the tests look from.
+fn room_scan(noise: &Noise) -> ScanResult {
+    let scene = Scene::room(&RoomConfig::default()).expect("room");
+    scan(&scene, [3.0, 0.3, 2.6], [3.2, 3.0, 0.0], noise)
+}
+
+/// [`config`] with both filters at their defaults, for noisy scans.
+fn smoothed_config() -> Config {
+    config()
+        .with_z_thresh(0.05)
+        .with_norm_thresh(0.95)
+        .with_laplacian(Some(LaplacianConfig::default()))
+        .with_bilateral(Some(BilateralConfig::default()))
+}
+
 /// Per polygon: the ground-truth label most of its items carry and that share, where
 /// `items` gives each polygon's item ids and `truth` their labels.
 fn majorities(items: Vec<Vec<usize>>, truth: &[i32]) -> Vec<(i32, f64)> {
@@ -286,13 +301,7 @@ fn ramps_scan_finds_each_tilted_plane() {
 
 /// A noisy scan through the whole stack (Laplacian, bilateral, FastGA, planes).
 fn noisy_room(threads: usize) -> (ScanResult, Extraction) {
-    let scene = Scene::room(&RoomConfig::default()).expect("room");
-    let scan = scan(
-        &scene,
-        [3.0, 0.3, 2.6],
-        [3.2, 3.0, 0.0],
-        &Noise::new(0.004, 0.0, 7),
-    );
+    let scan = room_scan(&Noise::new(0.004, 0.0, 7));
     let config = config()
         .with_z_thresh(0.05)
         .with_norm_thresh(0.95)
@@ -411,13 +420,7 @@ fn a_reused_pipeline_gives_the_same_output_as_a_fresh_one() {
 fn a_pipeline_can_be_shared_between_threads() {
     fn shareable<T: Send + Sync>() {}
     shareable::<Polylidar>();
-    let scene = Scene::room(&RoomConfig::default()).expect("room");
-    let room = cloud(&scan(
-        &scene,
-        [3.0, 0.3, 2.6],
-        [3.2, 3.0, 0.0],
-        &Noise::none(),
-    ));
+    let room = cloud(&room_scan(&Noise::none()));
     let shared = Polylidar::new(config()).expect("config");
     let alone = shared.extract_organized(&room).expect("extraction");
     std::thread::scope(|s| {
@@ -436,20 +439,9 @@ fn a_pipeline_can_be_shared_between_threads() {
 /// deadlock here.
 #[test]
 fn concurrent_runs_on_one_pipeline_all_finish() {
-    let scene = Scene::room(&RoomConfig::default()).expect("room");
-    let room = cloud(&scan(
-        &scene,
-        [3.0, 0.3, 2.6],
-        [3.2, 3.0, 0.0],
-        &Noise::new(0.004, 0.0, 7),
-    ));
-    let smoothed = config()
-        .with_z_thresh(0.05)
-        .with_norm_thresh(0.95)
-        .with_laplacian(Some(LaplacianConfig::default()))
-        .with_bilateral(Some(BilateralConfig::default()));
+    let room = cloud(&room_scan(&Noise::new(0.004, 0.0, 7)));
     for threads in [2, 0] {
-        let shared = Polylidar::new(smoothed.clone().with_threads(threads)).expect("config");
+        let shared = Polylidar::new(smoothed_config().with_threads(threads)).expect("config");
         let alone = shared.extract_organized(&room).expect("extraction");
         std::thread::scope(|s| {
             let runs: Vec<_> = (0..4)
@@ -493,11 +485,7 @@ fn recycled_extractions_give_the_results_of_fresh_runs() {
         frame(90, 130, 3),
         frame(120, 160, 4),
     ];
-    let smoothed = config()
-        .with_z_thresh(0.05)
-        .with_norm_thresh(0.95)
-        .with_laplacian(Some(LaplacianConfig::default()))
-        .with_bilateral(Some(BilateralConfig::default()));
+    let smoothed = smoothed_config();
     let decimated = smoothed.clone().with_decimate(Some(
         DecimateConfig::default().with_factor(DecimateFactor::Fixed(2)),
     ));
