@@ -447,14 +447,22 @@ fn smooth_on_cpu<'a>(
     options: &OpcMeshOptions,
     timings: &mut Timings,
 ) -> Result<(u32, OpcMesh, SmoothedCloud<'a>), PolylidarError> {
-    let storage = reuse.mesh_storage();
     let start = Instant::now();
     let (iterations, passes) = laplacian_passes(l, &cloud);
+    // A borrowed cloud is filtered into the recycled mesh's vertex buffer: the smoothed
+    // points become the mesh's vertices.
+    let points = match &cloud {
+        Cow::Borrowed(_) if iterations > 0 => reuse.take_recycled_vertices(),
+        _ => Vec::new(),
+    };
+    let storage = reuse.mesh_storage();
     let cloud = if iterations == 0 {
         cloud
     } else {
         let cpu = reuse.cpu(l.backend);
-        let smoothed = cpu.laplacian_smoothed(cloud, &l.options(iterations), passes.as_deref())?;
+        let smoothing = l.options(iterations);
+        let smoothed =
+            cpu.laplacian_smoothed_reusing(cloud, &smoothing, passes.as_deref(), points)?;
         match smoothed.into_parts() {
             Ok((smoothed, mut planes)) => {
                 timings.record("laplacian", start.elapsed());

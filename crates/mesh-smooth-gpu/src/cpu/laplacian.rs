@@ -85,16 +85,19 @@ pub(crate) fn laplacian_in_place(
 }
 
 /// The filtered copy of `cloud`, as [`laplacian_in_place`] would leave it, written in one
-/// pass (the filtered points from the planes, the others from `cloud`).
+/// pass (the filtered points from the planes, the others from `cloud`) into `out`'s
+/// storage (its points are dropped).
 pub(crate) fn laplacian_copy(
     work: &mut LaplacianWork,
     cloud: &OrganizedPointCloud,
     options: &LaplacianOptions,
     passes: Passes<'_>,
     parallel: bool,
+    mut out: Vec<[f64; 3]>,
 ) -> Vec<[f64; 3]> {
     let (source, cols) = (cloud.points(), cloud.cols());
-    let mut out = Vec::with_capacity(source.len());
+    out.clear();
+    out.reserve(source.len());
     let Some(filtered) = filter(work, cloud, options, passes, parallel) else {
         out.extend_from_slice(source);
         return out;

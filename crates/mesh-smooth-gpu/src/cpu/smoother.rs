@@ -253,6 +253,42 @@ impl CpuSmoother {
         options: &LaplacianOptions,
         passes: Option<&[u8]>,
     ) -> Result<Smoothed<'_>, SmoothError> {
+        self.laplacian_smoothed_reusing(cloud, options, passes, Vec::new())
+    }
+
+    /// [`Self::laplacian_smoothed`], writing the copy of a borrowed cloud into the storage
+    /// of `points` (whose points are dropped): a stream of frames hands in the last
+    /// frame's buffer (its mesh's vertices, say) and the copy then touches no fresh
+    /// memory. An owned cloud is filtered in place, and `points` dropped.
+    ///
+    /// ```
+    /// use std::borrow::Cow;
+    /// use mesh_smooth_gpu::{CpuSmoother, LaplacianOptions};
+    /// use opc_mesh::OrganizedPointCloud;
+    ///
+    /// let points: Vec<[f64; 3]> =
+    ///     (0..100).map(|i| [(i % 10) as f64, (i / 10) as f64, 0.01 * (i % 3) as f64]).collect();
+    /// let cloud = OrganizedPointCloud::new(10, 10, points)?;
+    /// let (options, mut smoother) = (LaplacianOptions::new(), CpuSmoother::new());
+    /// let buffer: Vec<[f64; 3]> = Vec::with_capacity(250);
+    /// let at = buffer.as_ptr();
+    /// let smoothed = smoother
+    ///     .laplacian_smoothed_reusing(Cow::Borrowed(&cloud), &options, None, buffer)?
+    ///     .into_cloud();
+    /// assert_eq!(smoothed.points().as_ptr(), at);
+    /// assert_eq!(smoothed, smoother.laplacian(&cloud, &options)?);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    ///
+    /// # Errors
+    /// As [`Self::laplacian_smoothed`].
+    pub fn laplacian_smoothed_reusing(
+        &mut self,
+        cloud: Cow<'_, OrganizedPointCloud>,
+        options: &LaplacianOptions,
+        passes: Option<&[u8]>,
+        points: Vec<[f64; 3]>,
+    ) -> Result<Smoothed<'_>, SmoothError> {
         options.validate()?;
         if let Some(passes) = passes {
             crate::options::check_passes(passes, &cloud)?;
@@ -265,7 +301,7 @@ impl CpuSmoother {
                 cloud
             }
             Cow::Borrowed(cloud) => {
-                let points = laplacian_copy(work, cloud, options, passes, self.parallel);
+                let points = laplacian_copy(work, cloud, options, passes, self.parallel, points);
                 OrganizedPointCloud::new(cloud.rows(), cloud.cols(), points)?
             }
         };
