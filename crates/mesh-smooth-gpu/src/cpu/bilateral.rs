@@ -149,11 +149,7 @@ pub(crate) fn bilateral_of_planes<'a>(
     };
     let num_cells = cells.rows * cells.cols;
     types.resize(num_cells);
-    let mut all = types.planes_mut();
-    let (per_type, _) = all.as_chunks_mut::<TYPE_PLANES>();
-    for (k, type_planes) in per_type.iter_mut().enumerate() {
-        compute_type(points, cols, k, parallel, type_planes);
-    }
+    compute_types(points, cols, parallel, types.planes_mut());
     let type_planes = types.planes();
     let type_view = |k: usize| {
         let p = &type_planes[TYPE_PLANES * k..TYPE_PLANES * (k + 1)];
@@ -221,45 +217,40 @@ pub(crate) fn bilateral_of_planes<'a>(
     }
 }
 
-/// Normals, centroids and masks of the type-`k` triangles of every cell of a cloud with
-/// `cols` columns whose points are the planes `points`, into
-/// `[nx, ny, nz, cx, cy, cz, mask]`.
-fn compute_type(
+/// Normals, centroids and masks of the triangles of both types of every cell of a cloud
+/// with `cols` columns whose points are the planes `points`, into `[nx, ny, nz, cx, cy,
+/// cz, mask]` of type 0, then of type 1; both types of a cell row in one task, which reads
+/// its two rows of points once.
+fn compute_types(
     points: [&[f32]; 4],
     cols: usize,
-    k: usize,
     parallel: bool,
-    [nx, ny, nz, cx, cy, cz, mask]: &mut [&mut [f32]; TYPE_PLANES],
+    planes: [&mut [f32]; 2 * TYPE_PLANES],
 ) {
     let cc = cols - 1;
-    (
-        nx.par_chunks_mut(cc),
-        ny.par_chunks_mut(cc),
-        nz.par_chunks_mut(cc),
-        cx.par_chunks_mut(cc),
-        cy.par_chunks_mut(cc),
-        cz.par_chunks_mut(cc),
-        mask.par_chunks_mut(cc),
-    )
+    let [a, b, c, d, e, f, g, h, i, j, k, l, m, n] = planes.map(|p| p.par_chunks_mut(cc));
+    ((a, b, c, d, e, f, g), (h, i, j, k, l, m, n))
         .into_par_iter()
         .enumerate()
         .with_min_len(min_rows_per_task(parallel))
-        .for_each(|(r, (nx, ny, nz, cx, cy, cz, m))| {
+        .for_each(|(r, rows)| {
             let top = r * cols;
             let bottom = top + cols;
+            let corner = |start| points.map(|p| span(p, start, cc));
+            let ((nx0, ny0, nz0, cx0, cy0, cz0, m0), (nx1, ny1, nz1, cx1, cy1, cz1, m1)) = rows;
             // p1 = (r, c), p2 = (r, c + 1), p3 = (r + 1, c + 1), p4 = (r + 1, c);
             // type 0 is [p3, p2, p1], type 1 is [p1, p4, p3].
-            let corners = if k == 0 {
-                [bottom + 1, top + 1, top]
-            } else {
-                [top, bottom, bottom + 1]
-            };
-            let corner = |start| points.map(|p| span(p, start, cc));
             type_row(
-                corners.map(corner),
-                [&mut *nx, &mut *ny, &mut *nz],
-                [&mut *cx, &mut *cy, &mut *cz],
-                m,
+                [bottom + 1, top + 1, top].map(corner),
+                [nx0, ny0, nz0],
+                [cx0, cy0, cz0],
+                m0,
+            );
+            type_row(
+                [top, bottom, bottom + 1].map(corner),
+                [nx1, ny1, nz1],
+                [cx1, cy1, cz1],
+                m1,
             );
         });
 }
