@@ -115,17 +115,23 @@ impl OrganizedPointCloudView<'_> {
                 let block_rows = members.len() / in_cols;
                 let input = &input[r * factor * in_cols..][..members.len()];
                 let mut valid_pixels = 0;
-                for (c, o) in out.iter_mut().enumerate() {
+                // Full 2 × 2 blocks, the common case, in a kernel of their own.
+                let full = if factor == 2 && block_rows == 2 {
+                    let (top, bottom) = input.split_at(in_cols);
+                    let (members_top, members_bottom) = members.split_at_mut(in_cols);
+                    let blocks = in_cols / 2;
+                    valid_pixels += two_by_two_row(
+                        [top, bottom],
+                        range_tolerance,
+                        &mut out[..blocks],
+                        [members_top, members_bottom],
+                    );
+                    blocks
+                } else {
+                    0
+                };
+                for (c, o) in out.iter_mut().enumerate().skip(full) {
                     let (c0, c1) = (c * factor, ((c + 1) * factor).min(in_cols));
-                    if factor == 2 && block_rows == 2 && c1 - c0 == 2 {
-                        let (point, inside, finite) =
-                            two_by_two(&input[c0..], in_cols, range_tolerance);
-                        *o = point;
-                        members[c0..c1].copy_from_slice(&inside[..2]);
-                        members[in_cols + c0..in_cols + c1].copy_from_slice(&inside[2..]);
-                        valid_pixels += finite;
-                        continue;
-                    }
                     block.fill(input, in_cols, block_rows, c0..c1);
                     valid_pixels += block.finite;
                     let (low, high) = block.window(range_tolerance);
@@ -283,13 +289,43 @@ impl Block {
     }
 }
 
-/// A full 2 × 2 block (rows of `stride` points from `input[0]`), the common case,
-/// without [`Block`]'s copies and loops: its point, which of its pixels it averaged (in
-/// row-major order) and its valid pixels, computed as [`Block::fill`], [`Block::window`]
-/// and the mean do.
-#[inline]
-fn two_by_two(input: &[[f64; 3]], stride: usize, tolerance: f64) -> ([f64; 3], [bool; 4], usize) {
-    let pixels = [input[0], input[1], input[stride], input[stride + 1]];
+/// The full 2 × 2 blocks of a pair of rows (`rows`: the top and bottom rows' pixels),
+/// one point each into `out` (one per block), the pixels each averaged into `members`
+/// (the two rows' flags); the valid pixels. Branch-free per block, and compiled also for
+/// AVX-512 and AVX2, chosen at run time: the arithmetic is the same on every target (no
+/// fused multiply-add), so results do not depend on the CPU.
+#[multiversion::multiversion(targets("x86_64+avx512f+avx512vl+avx512bw+avx512dq", "x86_64+avx2"))]
+fn two_by_two_row(
+    [top, bottom]: [&[[f64; 3]]; 2],
+    tolerance: f64,
+    out: &mut [[f64; 3]],
+    [members_top, members_bottom]: [&mut [bool]; 2],
+) -> usize {
+    let blocks = out.len();
+    let (top, bottom) = (&top[..2 * blocks], &bottom[..2 * blocks]);
+    let (members_top, members_bottom) = (
+        &mut members_top[..2 * blocks],
+        &mut members_bottom[..2 * blocks],
+    );
+    let mut valid_pixels = 0;
+    for c in 0..blocks {
+        let pixels = [top[2 * c], top[2 * c + 1], bottom[2 * c], bottom[2 * c + 1]];
+        let (point, inside, finite) = two_by_two(pixels, tolerance);
+        out[c] = point;
+        members_top[2 * c] = inside[0];
+        members_top[2 * c + 1] = inside[1];
+        members_bottom[2 * c] = inside[2];
+        members_bottom[2 * c + 1] = inside[3];
+        valid_pixels += finite;
+    }
+    valid_pixels
+}
+
+/// A full 2 × 2 block (its pixels in row-major order) without [`Block`]'s copies and
+/// loops: its point, which of its pixels it averaged and its valid pixels, computed as
+/// [`Block::fill`], [`Block::window`] and the mean do.
+#[inline(always)]
+fn two_by_two(pixels: [[f64; 3]; 4], tolerance: f64) -> ([f64; 3], [bool; 4], usize) {
     let mut range2 = [0.0; 4];
     let (mut valid, mut finite) = (0, 0);
     for (r2, p) in range2.iter_mut().zip(&pixels) {
@@ -298,11 +334,12 @@ fn two_by_two(input: &[[f64; 3]], stride: usize, tolerance: f64) -> ([f64; 3], [
         valid += usize::from(r2.is_finite());
         finite += usize::from(is_finite);
     }
-    let (low, high) = if valid == 0 {
-        EMPTY_WINDOW
-    } else {
-        window_around(sorted_four(range2)[(valid - 1) / 2], tolerance)
-    };
+    // The lower median of the valid ones, which order first: the second of three or
+    // four, the first of one or two. Selected, not indexed, so that blocks vectorise.
+    let sorted = sorted_four(range2);
+    let median2 = if valid >= 3 { sorted[1] } else { sorted[0] };
+    let window = window_around(median2, tolerance);
+    let (low, high) = if valid == 0 { EMPTY_WINDOW } else { window };
     let (mut sum, mut count) = ([0.0; 3], 0.0);
     let mut members = [false; 4];
     for ((member, r2), p) in members.iter_mut().zip(range2).zip(pixels) {
@@ -318,7 +355,7 @@ const EMPTY_WINDOW: (f64, f64) = (1.0, 0.0);
 /// A pixel's squared range as blocks order it (infinite unless the pixel is valid and
 /// its square finite: a point so far out that its square overflows would otherwise
 /// order with the invalid ones), and whether it is valid.
-#[inline]
+#[inline(always)]
 fn ordering_range2(p: &[f64; 3]) -> (f64, bool) {
     let is_finite = is_valid(p);
     let r2 = range2(p);
@@ -334,7 +371,7 @@ fn ordering_range2(p: &[f64; 3]) -> (f64, bool) {
 
 /// Adds point `p` to a block's running sum and count when its squared range `r2` lies in
 /// the window `(low, high)`; whether it did (branch-free).
-#[inline]
+#[inline(always)]
 fn add_if_inside(
     (sum, count): (&mut [f64; 3], &mut f64),
     p: [f64; 3],
@@ -351,7 +388,7 @@ fn add_if_inside(
 
 /// Four squared ranges in ascending order, by a network of minima and maxima (they are
 /// never NaN, so plain comparisons, one instruction each, do).
-#[inline]
+#[inline(always)]
 fn sorted_four([a, b, c, d]: [f64; 4]) -> [f64; 4] {
     let sort = |x: f64, y: f64| if x < y { (x, y) } else { (y, x) };
     let (a, b) = sort(a, b);
@@ -364,7 +401,7 @@ fn sorted_four([a, b, c, d]: [f64; 4]) -> [f64; 4] {
 
 /// The bounds of the squared ranges within `tolerance` of the range whose square is
 /// `median2`.
-#[inline]
+#[inline(always)]
 fn window_around(median2: f64, tolerance: f64) -> (f64, f64) {
     let low = (1.0 - tolerance).max(0.0);
     let high = 1.0 + tolerance;
@@ -373,6 +410,7 @@ fn window_around(median2: f64, tolerance: f64) -> (f64, f64) {
 
 /// The squared range (distance from the origin) of a point: blocks are ordered and
 /// compared by it, which orders them as the range does without a square root.
+#[inline(always)]
 fn range2(p: &[f64; 3]) -> f64 {
     p[0] * p[0] + p[1] * p[1] + p[2] * p[2]
 }
