@@ -113,15 +113,18 @@ impl PostProcessor {
     /// [`PostError::TooManyPolygons`] for more than `u32::MAX` inputs.
     pub fn process_many_2d(&self, polygons: &[Polygon<f64>]) -> Result<Output2, PostError> {
         check_count(polygons.len())?;
-        let per_input: Vec<(Vec<SourcedPolygon2>, PostDiagnostics)> = polygons
-            .par_iter()
-            .enumerate()
-            .map_init(Scratch::default, |scratch, (i, p)| {
+        let vertices = |p: &Polygon<f64>| {
+            p.exterior().0.len() + p.interiors().iter().map(|h| h.0.len()).sum::<usize>()
+        };
+        let per_input = largest_first(
+            polygons.len(),
+            |i| vertices(&polygons[i]),
+            |scratch, i| {
                 let mut d = PostDiagnostics::default();
-                let out = self.one_2d(p, i as u32, &mut d, scratch);
+                let out = self.one_2d(&polygons[i], i as u32, &mut d, scratch);
                 (out, d)
-            })
-            .collect();
+            },
+        );
         let mut out = Output2::default();
         for (polys, d) in per_input {
             out.polygons.extend(polys);
@@ -160,16 +163,16 @@ impl PostProcessor {
             });
         }
         check_count(polygons.len())?;
-        let per_input: Vec<(Vec<SourcedPolygon3>, PostDiagnostics)> = polygons
-            .par_iter()
-            .zip(planes.par_iter())
-            .enumerate()
-            .map_init(Scratch::default, |scratch, (i, (p, plane))| {
+        let vertices = |p: &Polygon3| p.shell.len() + p.holes.iter().map(Vec::len).sum::<usize>();
+        let per_input = largest_first(
+            polygons.len(),
+            |i| vertices(&polygons[i]),
+            |scratch, i| {
                 let mut d = PostDiagnostics::default();
-                let out = self.one_3d(p, plane, i as u32, &mut d, scratch);
+                let out = self.one_3d(&polygons[i], &planes[i], i as u32, &mut d, scratch);
                 (out, d)
-            })
-            .collect();
+            },
+        );
         let mut out = Output3::default();
         for (polys, d) in per_input {
             out.polygons.extend(polys);
@@ -214,6 +217,29 @@ impl PostProcessor {
             })
             .collect()
     }
+}
+
+/// `run(scratch, i)` for every input `i < count` in parallel, the costliest first
+/// (`cost(i)`: its vertices), with the results in input order. A frame's polygons differ
+/// in cost a hundredfold (the buffers' cost grows faster than their vertex count): the
+/// largest left to the end would keep one worker busy while the others wait. Each input
+/// is processed on its own, so the order changes no result.
+fn largest_first<T: Send>(
+    count: usize,
+    cost: impl Fn(usize) -> usize,
+    run: impl Fn(&mut Scratch, usize) -> T + Sync,
+) -> Vec<T> {
+    let mut order: Vec<usize> = (0..count).collect();
+    order.sort_by_key(|&i| std::cmp::Reverse(cost(i)));
+    // One input per task: rayon otherwise runs a few neighbours of the order in one
+    // task, which no other worker can take over.
+    let mut done: Vec<(usize, T)> = order
+        .into_par_iter()
+        .with_max_len(1)
+        .map_init(Scratch::default, |scratch, i| (i, run(scratch, i)))
+        .collect();
+    done.sort_unstable_by_key(|&(i, _)| i);
+    done.into_iter().map(|(_, t)| t).collect()
 }
 
 fn check_count(n: usize) -> Result<(), PostError> {

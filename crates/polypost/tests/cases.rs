@@ -332,3 +332,73 @@ fn bad_plane_is_reported() {
     assert!(out.polygons.is_empty());
     assert_eq!(out.diagnostics.dropped[0].reason, DropReason::BadPlane);
 }
+
+/// A star-shaped ring of `n` vertices around `(x0, 0)`, radius 1 ± 0.3, scaled by `scale`.
+fn star(x0: f64, n: usize, scale: f64) -> Vec<(f64, f64)> {
+    (0..n)
+        .map(|i| {
+            let a = std::f64::consts::TAU * i as f64 / n as f64;
+            let r = scale * if i % 2 == 0 { 1.3 } else { 0.7 };
+            (x0 + r * a.cos(), r * a.sin())
+        })
+        .collect()
+}
+
+/// Many polygons of very different sizes, processed together on two threads (the largest
+/// first): the outputs, in input order with their sources, and the diagnostics are those
+/// of each polygon processed alone.
+#[test]
+fn many_polygons_give_what_each_gives_alone_in_input_order() {
+    let sizes = [6, 300, 20, 1200, 8, 50, 800, 3, 400, 12];
+    let polygons: Vec<Polygon<f64>> = sizes
+        .iter()
+        .enumerate()
+        .map(|(i, &n)| {
+            let x0 = 4.0 * i as f64;
+            poly(&star(x0, n, 1.0), &[star(x0, 10, 0.2)])
+        })
+        .collect();
+    let plane = Plane::from_normal_and_point([0.0, 0.0, 1.0], [0.0; 3]).unwrap();
+    let lifted: Vec<Polygon3> = polygons
+        .iter()
+        .map(|p| {
+            let ring = |r: &geo::LineString<f64>| r.0.iter().map(|c| [c.x, c.y, 0.0]).collect();
+            Polygon3::new(ring(p.exterior()), p.interiors().iter().map(ring).collect())
+        })
+        .collect();
+    let planes = vec![plane; lifted.len()];
+    let post = processor(PostprocessConfig::default().with_beta_neg(0.02));
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(2)
+        .build()
+        .unwrap();
+    let (flat, lifted_out) = pool.install(|| {
+        (
+            post.process_many_2d(&polygons).unwrap(),
+            post.process_many_3d(&lifted, &planes).unwrap(),
+        )
+    });
+    let mut alone = (polypost::Output2::default(), polypost::Output3::default());
+    for (i, (p, q)) in polygons.iter().zip(&lifted).enumerate() {
+        let (one, three) = (post.process_2d(p), post.process_3d(q, &plane));
+        let source = i as u32;
+        alone.0.polygons.extend(
+            one.polygons
+                .into_iter()
+                .map(|o| polypost::SourcedPolygon2 { source, ..o }),
+        );
+        alone.1.polygons.extend(
+            three
+                .polygons
+                .into_iter()
+                .map(|o| polypost::SourcedPolygon3 { source, ..o }),
+        );
+        alone.0.diagnostics.merge(&one.diagnostics);
+        alone.1.diagnostics.merge(&three.diagnostics);
+    }
+    assert_eq!(flat.polygons.len(), sizes.len());
+    assert_eq!(flat.polygons, alone.0.polygons);
+    assert_eq!(flat.diagnostics, alone.0.diagnostics);
+    assert_eq!(lifted_out.polygons, alone.1.polygons);
+    assert_eq!(lifted_out.diagnostics, alone.1.diagnostics);
+}
