@@ -289,11 +289,12 @@ impl Block {
     }
 }
 
-/// The full 2 × 2 blocks of a pair of rows (`rows`: the top and bottom rows' pixels),
-/// one point each into `out` (one per block), the pixels each averaged into `members`
-/// (the two rows' flags); the valid pixels. Branch-free per block, and compiled also for
-/// AVX-512 and AVX2, chosen at run time: the arithmetic is the same on every target (no
-/// fused multiply-add), so results do not depend on the CPU.
+/// The first `out.len()` 2 × 2 blocks of a pair of rows (the `top` and `bottom` rows'
+/// pixels): one point per block into `out`, and into `members` (the two rows' flags) the
+/// pixels each averaged; returns their valid pixels. Each block as [`two_by_two`], without
+/// branches, so that the loop vectorises; compiled also for AVX-512 and AVX2, chosen at
+/// run time. The arithmetic is the same on every target (no fused multiply-add), so
+/// results do not depend on the CPU.
 #[multiversion::multiversion(targets("x86_64+avx512f+avx512vl+avx512bw+avx512dq", "x86_64+avx2"))]
 fn two_by_two_row(
     [top, bottom]: [&[[f64; 3]]; 2],

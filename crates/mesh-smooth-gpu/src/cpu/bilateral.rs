@@ -228,8 +228,25 @@ fn compute_types(
     planes: [&mut [f32]; 2 * TYPE_PLANES],
 ) {
     let cc = cols - 1;
-    let [a, b, c, d, e, f, g, h, i, j, k, l, m, n] = planes.map(|p| p.par_chunks_mut(cc));
-    ((a, b, c, d, e, f, g), (h, i, j, k, l, m, n))
+    let [
+        nx0,
+        ny0,
+        nz0,
+        cx0,
+        cy0,
+        cz0,
+        m0,
+        nx1,
+        ny1,
+        nz1,
+        cx1,
+        cy1,
+        cz1,
+        m1,
+    ] = planes.map(|p| p.par_chunks_mut(cc));
+    let type0 = (nx0, ny0, nz0, cx0, cy0, cz0, m0);
+    let type1 = (nx1, ny1, nz1, cx1, cy1, cz1, m1);
+    (type0, type1)
         .into_par_iter()
         .enumerate()
         .with_min_len(min_rows_per_task(parallel))
@@ -558,7 +575,7 @@ const BLOCK: usize = 32;
 /// Writes cell row `r` of the next pass (both triangle types) into `out`; the ring
 /// holds the pair weights of rows `r − half ..= r`.
 ///
-/// A missing triangle's normal is zero (as [`compute_type`] makes it and
+/// A missing triangle's normal is zero (as [`compute_types`] makes it and
 /// [`normalize`] keeps it), so its terms add exact zeros without a mask; the terms are
 /// added in the order of [`direct_row`]. Both triangle types of a cell have the same
 /// neighbours, so each neighbour's normal is read once for both sums. The sums of
@@ -787,7 +804,7 @@ mod tests {
         [0, 1].map(|k| {
             let mask: Vec<f32> = (0..n).map(|i| f32::from((i + k) % 7 != 0)).collect();
             let centroid = [plane(0.4), plane(0.4), plane(0.4)];
-            // Missing triangles have zero normals, as `compute_type` makes them.
+            // Missing triangles have zero normals, as `compute_types` makes them.
             let normal = [(); 3].map(|()| {
                 let mut p = plane(1.0);
                 for (v, m) in p.iter_mut().zip(&mask) {
