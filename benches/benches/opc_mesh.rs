@@ -7,7 +7,8 @@
 //! into the mesh; at 2 threads also `reusing` (writing over the previous iteration's mesh
 //! with `mesh_reusing`, as for a stream of frames), `moved` (`into_mesh`, no copy of the
 //! points) and `no_normals`. Group `decimate`: `OrganizedPointCloud::decimate` by 2 (the
-//! `rgbd` preset's first stage at 640 × 480) on 1 and 2 threads.
+//! `rgbd` preset's first stage at 640 × 480) on 1 and 2 threads, by 3 and 4 (to the
+//! paper's 212 columns from 640 and 848) on 2.
 //!
 //! `cargo bench -p polylidar-benches --bench opc_mesh`
 
@@ -142,10 +143,10 @@ fn bench_decimate(c: &mut Criterion) {
     let (one, two) = (pool(1), pool(2));
     let mut group = c.benchmark_group("decimate");
     for (name, cloud) in clouds() {
-        for (threads, pool) in [(1, &one), (2, &two)] {
-            let case = format!("by_2_threads_{threads}");
+        for (factor, threads, pool) in [(2, 1, &one), (2, 2, &two), (3, 2, &two), (4, 2, &two)] {
+            let case = format!("by_{factor}_threads_{threads}");
             group.bench_with_input(BenchmarkId::new(name, case), &cloud, |b, cloud| {
-                b.iter(|| pool.install(|| cloud.decimate(black_box(2), 0.02)))
+                b.iter(|| pool.install(|| cloud.decimate(black_box(factor), 0.02)))
             });
         }
     }
