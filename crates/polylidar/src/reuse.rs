@@ -101,8 +101,9 @@ impl Organized {
         }
     }
 
-    /// The recycled mesh's vertex buffer (empty without one), for the next frame's
-    /// decimated points: its other arrays stay for meshing, which replaces the vertices.
+    /// The recycled mesh's vertex buffer (empty without one), for the next frame's points
+    /// (decimated, or smoothed from the caller's cloud), which become its mesh's vertices:
+    /// the other arrays stay for meshing.
     pub fn take_recycled_vertices(&mut self) -> Vec<[f64; 3]> {
         let Some(mesh) = self.recycled.take() else {
             return Vec::new();

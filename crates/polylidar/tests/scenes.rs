@@ -302,15 +302,12 @@ fn ramps_scan_finds_each_tilted_plane() {
 /// A noisy scan through the whole stack (Laplacian, bilateral, FastGA, planes).
 fn noisy_room(threads: usize) -> (ScanResult, Extraction) {
     let scan = room_scan(&Noise::new(0.004, 0.0, 7));
-    let config = config()
-        .with_z_thresh(0.05)
-        .with_norm_thresh(0.95)
+    let config = smoothed_config()
         .with_laplacian(Some(
             LaplacianConfig::default()
                 .with_kernel(5)
                 .with_iterations(4.into()),
         ))
-        .with_bilateral(Some(BilateralConfig::default()))
         .with_threads(threads);
     let extraction = Polylidar::new(config)
         .expect("config")
