@@ -4,7 +4,7 @@
 use opc_mesh::OrganizedPointCloud;
 use rayon::prelude::*;
 
-use super::{PlaneSet, Planes, exp_neg, fma, min_rows_per_task};
+use super::{Offsets, PlaneSet, Planes, exp_neg, fma, min_rows_per_task, span};
 use crate::BilateralOptions;
 use crate::grid::{SLOT_CHUNK, TRIANGLES_PER_CELL, UNIT_BLOCK, in_slot_order, widen_units};
 
@@ -328,61 +328,21 @@ struct Cells {
     half: usize,
 }
 
-/// A cell offset of a triangle's neighbour, and where the pair weight is kept.
-#[derive(Clone, Copy)]
-struct Neighbour {
-    /// Cell row and column offsets.
-    dr: isize,
-    dc: isize,
-    /// Index of the forward offset `±(dr, dc)` in [`Filter::forward`].
-    pair: usize,
-    /// Whether `(dr, dc)` itself is forward: the weight sits at the triangle's cell;
-    /// otherwise at the neighbour's (the pair seen from there points forward).
-    forward: bool,
-}
-
 struct Filter {
     cells: Cells,
     inv_var_length: f32,
     inv_var_angle: f32,
-    /// Cell offsets later in raster order than `(0, 0)`, in raster order.
-    forward: Vec<(usize, isize)>,
-    /// All cell offsets but `(0, 0)`, in raster order: the order of the sums.
-    neighbours: Vec<Neighbour>,
+    /// The kernel's cell offsets.
+    offsets: Offsets,
 }
 
 impl Filter {
     fn new(cells: Cells, inv_var_length: f32, inv_var_angle: f32) -> Self {
-        let h = cells.half as isize;
-        let forward: Vec<(usize, isize)> = (0..=h)
-            .flat_map(|dr| (-h..=h).map(move |dc| (dr, dc)))
-            .filter(|&(dr, dc)| dr > 0 || dc > 0)
-            .map(|(dr, dc)| (dr as usize, dc))
-            .collect();
-        let neighbours = (-h..=h)
-            .flat_map(|dr| (-h..=h).map(move |dc| (dr, dc)))
-            .filter(|&offset| offset != (0, 0))
-            .map(|(dr, dc)| {
-                let is_forward = dr > 0 || (dr == 0 && dc > 0);
-                let (fr, fc) = if is_forward { (dr, dc) } else { (-dr, -dc) };
-                let pair = forward
-                    .iter()
-                    .position(|&o| o == (fr as usize, fc))
-                    .unwrap_or_default();
-                Neighbour {
-                    dr,
-                    dc,
-                    pair,
-                    forward: is_forward,
-                }
-            })
-            .collect();
         Self {
             cells,
             inv_var_length,
             inv_var_angle,
-            forward,
-            neighbours,
+            offsets: Offsets::new(cells.half),
         }
     }
 
@@ -398,7 +358,7 @@ impl Filter {
         if !self.shares_pairs() {
             return Vec::new();
         }
-        let per_row = self.forward.len() * TRIANGLES_PER_CELL * TRIANGLES_PER_CELL;
+        let per_row = self.offsets.forward.len() * TRIANGLES_PER_CELL * TRIANGLES_PER_CELL;
         vec![0.0; (self.cells.half + 1) * per_row * self.cells.cols]
     }
 
@@ -429,7 +389,7 @@ impl Filter {
     /// and the type-`k2` ones at forward offset `pair` from them start.
     #[inline(always)]
     fn ring_row(&self, r: usize, pair: usize, k1: usize, k2: usize) -> usize {
-        let slot = (r % (self.cells.half + 1)) * self.forward.len() + pair;
+        let slot = (r % (self.cells.half + 1)) * self.offsets.forward.len() + pair;
         ((slot * TRIANGLES_PER_CELL + k1) * TRIANGLES_PER_CELL + k2) * self.cells.cols
     }
 }
@@ -509,7 +469,7 @@ fn pair_weights(
     ring: &mut [f32],
 ) {
     let Cells { rows, cols, .. } = filter.cells;
-    for (pair, &(dr, dc)) in filter.forward.iter().enumerate() {
+    for (pair, &(dr, dc)) in filter.offsets.forward.iter().enumerate() {
         if r + dr >= rows {
             continue;
         }
@@ -600,7 +560,7 @@ fn output_row<const TERMS: usize>(
     // x, y, z; as `blocks` blocks and the rest.
     let terms: [[&[f32]; 5]; TERMS] = std::array::from_fn(|t| {
         let (nb, kn) = (
-            &filter.neighbours[t / TRIANGLES_PER_CELL],
+            &filter.offsets.neighbours[t / TRIANGLES_PER_CELL],
             t % TRIANGLES_PER_CELL,
         );
         let w = |ko: usize| {
@@ -698,7 +658,7 @@ fn direct_row(
         az.fill(0.0);
         let [nx, ny, nz] = normals[ko].each_ref().map(|n| &n[own..own + len]);
         let [cx, cy, cz] = types[ko].centroid.each_ref().map(|c| &c[own..own + len]);
-        for nb in &filter.neighbours {
+        for nb in &filter.offsets.neighbours {
             let q = own.wrapping_add_signed(nb.dr * cols as isize + nb.dc);
             for kn in 0..TRIANGLES_PER_CELL {
                 let [qnx, qny, qnz] = normals[kn].each_ref().map(|n| &n[q..q + len]);
@@ -774,12 +734,6 @@ fn normalize(a: [&mut [f32]; 3], own: usize, normals: &Xyz<'_>, mask: &[f32]) {
         ay[i] = y;
         az[i] = z;
     }
-}
-
-/// `plane[start..start + len]`.
-#[inline]
-fn span(plane: &[f32], start: usize, len: usize) -> &[f32] {
-    &plane[start..start + len]
 }
 
 #[cfg(test)]

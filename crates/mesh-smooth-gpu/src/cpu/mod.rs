@@ -32,6 +32,70 @@ pub(crate) fn min_rows_per_task(parallel: bool) -> usize {
     if parallel { 2 } else { usize::MAX }
 }
 
+/// A neighbour's offset in a square kernel, and where the weight it shares with the
+/// centre is kept when each pair's weight is computed once (see [`Offsets`]).
+#[derive(Clone, Copy)]
+pub(crate) struct Neighbour {
+    /// Row and column offsets.
+    pub dr: isize,
+    pub dc: isize,
+    /// Index of the forward offset `±(dr, dc)` in [`Offsets::forward`].
+    pub pair: usize,
+    /// Whether `(dr, dc)` itself is forward: the pair's weight sits at the centre;
+    /// otherwise at the neighbour (the pair seen from there points forward).
+    pub forward: bool,
+}
+
+/// The offsets of a `(2 half + 1)²` kernel. A filter whose pair weights are symmetric
+/// computes them once, for the forward offsets of each point, and finds a backward
+/// neighbour's weight at that neighbour.
+pub(crate) struct Offsets {
+    /// Offsets later in raster order than `(0, 0)`, in raster order.
+    pub forward: Vec<(usize, isize)>,
+    /// All offsets but `(0, 0)`, in raster order: the order of the sums.
+    pub neighbours: Vec<Neighbour>,
+}
+
+impl Offsets {
+    /// The offsets of the kernel of half-width `half`.
+    pub fn new(half: usize) -> Self {
+        let h = half as isize;
+        let forward: Vec<(usize, isize)> = (0..=h)
+            .flat_map(|dr| (-h..=h).map(move |dc| (dr, dc)))
+            .filter(|&(dr, dc)| dr > 0 || dc > 0)
+            .map(|(dr, dc)| (dr as usize, dc))
+            .collect();
+        let neighbours = (-h..=h)
+            .flat_map(|dr| (-h..=h).map(move |dc| (dr, dc)))
+            .filter(|&offset| offset != (0, 0))
+            .map(|(dr, dc)| {
+                let is_forward = dr > 0 || (dr == 0 && dc > 0);
+                let (fr, fc) = if is_forward { (dr, dc) } else { (-dr, -dc) };
+                let pair = forward
+                    .iter()
+                    .position(|&o| o == (fr as usize, fc))
+                    .unwrap_or_default();
+                Neighbour {
+                    dr,
+                    dc,
+                    pair,
+                    forward: is_forward,
+                }
+            })
+            .collect();
+        Self {
+            forward,
+            neighbours,
+        }
+    }
+}
+
+/// `plane[start..start + len]`.
+#[inline]
+pub(crate) fn span(plane: &[f32], start: usize, len: usize) -> &[f32] {
+    &plane[start..start + len]
+}
+
 /// An organized cloud as `f32` planes with a validity mask, reused across calls.
 #[derive(Default)]
 pub(crate) struct Planes {
