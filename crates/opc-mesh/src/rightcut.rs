@@ -122,6 +122,57 @@ impl Pass2<'_> {
         }
     }
 
+    /// Writes the `map.len()` dense cells of cell row `u` from `at` on (see
+    /// [`dense_run`]): what [`Self::write_row`] writes for them, without its branches.
+    fn write_dense(
+        &self,
+        u: usize,
+        at: Dense,
+        triangles: &mut [[u32; 3]],
+        halfedges: &mut [[u32; 3]],
+        normals: &mut [[f64; 3]],
+        map: &mut [[u32; 2]],
+    ) {
+        let (points, cols) = (self.points, self.cols);
+        let p = (u * cols + at.cell) as u32;
+        let cells = triangles
+            .as_chunks_mut::<2>()
+            .0
+            .iter_mut()
+            .zip(halfedges.as_chunks_mut::<2>().0)
+            .zip(map.iter_mut());
+        for (k, ((tris, twins), map)) in cells.enumerate() {
+            let k = k as u32;
+            let (p1, t) = (p + k, at.first + 2 * k);
+            let (p2, p4) = (p1 + 1, p1 + cols as u32);
+            let p3 = p4 + 1;
+            *tris = [[p3, p2, p1], [p1, p4, p3]];
+            // As in `write_row`, with the cells to the right, above and below dense; the
+            // left twin of the run's first cell (the cell before it need not be dense) is
+            // set after the loop.
+            *twins = [
+                [3 * (t + 3), 3 * (at.above + 2 * k + 1) + 1, 3 * (t + 1) + 2],
+                [
+                    3u32.wrapping_mul(t.wrapping_sub(2)),
+                    3 * (at.below + 2 * k) + 1,
+                    3 * t + 2,
+                ],
+            ];
+            *map = [t, t + 1];
+        }
+        halfedges[1][0] = at.left;
+        if !normals.is_empty() {
+            let top = &points[u * cols + at.cell..];
+            let bottom = &points[(u + 1) * cols + at.cell..];
+            for (k, pair) in normals.as_chunks_mut::<2>().0.iter_mut().enumerate() {
+                *pair = [
+                    unit(normal_of(bottom[k + 1], top[k + 1], top[k])),
+                    unit(normal_of(top[k], bottom[k], bottom[k + 1])),
+                ];
+            }
+        }
+    }
+
     /// Writes one cell row's triangles, twins, normals, map entries and vertices.
     fn write_row(&self, out: RowOut<'_>) {
         let RowOut {
@@ -143,7 +194,35 @@ impl Pass2<'_> {
         let mut next = first;
         let mut left_first = NO_TWIN;
         let mut local = 0;
-        for (v, (&class, map)) in classes.iter().zip(map.iter_mut()).enumerate() {
+        let mut v = 0;
+        while v < classes.len() {
+            if let (Some(above), Some(below)) = (above, below) {
+                let run = dense_run(classes, above, below, v);
+                if run > 0 {
+                    let at = Dense {
+                        cell: v,
+                        first: next,
+                        above: next_above,
+                        below: next_below,
+                        left: left_first,
+                    };
+                    let end = local + 2 * run;
+                    self.write_dense(
+                        u,
+                        at,
+                        &mut triangles[local..end],
+                        &mut halfedges[local..end],
+                        normals.get_mut(local..end).unwrap_or_default(),
+                        &mut map[v..v + run],
+                    );
+                    let step = 2 * run as u32;
+                    left_first = 3 * (next + step - 2);
+                    (next, next_above, next_below) =
+                        (next + step, next_above + step, next_below + step);
+                    (local, v) = (end, v + run);
+                }
+            }
+            let (class, map) = (classes[v], &mut map[v]);
             let class_above = above.map_or(0, |a| a[v]);
             let class_below = below.map_or(0, |b| b[v]);
             let class_right = classes.get(v + 1).copied().unwrap_or(0);
@@ -212,9 +291,39 @@ impl Pass2<'_> {
             next = after;
             next_above += count(class_above);
             next_below += count(class_below);
+            v += 1;
         }
         debug_assert_eq!(local, triangles.len());
     }
+}
+
+/// Where a run of dense cells starts: its first cell, its first triangle, the first
+/// triangles of the cells above and below it, and the twin of its first cell's
+/// left edge.
+#[derive(Clone, Copy)]
+struct Dense {
+    cell: usize,
+    first: u32,
+    above: u32,
+    below: u32,
+    left: u32,
+}
+
+/// How many cells from `v` on are dense: the cell, the cells above and below it and the
+/// cell to its right all hold both triangles. Inside such a run every triangle, twin and
+/// map entry is an affine function of the cell (see [`Pass2::write_dense`]); a depth
+/// frame is mostly such runs.
+#[inline]
+fn dense_run(classes: &[u8], above: &[u8], below: &[u8], v: usize) -> usize {
+    const BOTH: u8 = FIRST | SECOND;
+    (v..classes.len() - 1)
+        .take_while(|&c| {
+            (classes[c] == BOTH)
+                & (classes[c + 1] == BOTH)
+                & (above[c] == BOTH)
+                & (below[c] == BOTH)
+        })
+        .count()
 }
 
 /// The unit normal of a normalisable cross product.
