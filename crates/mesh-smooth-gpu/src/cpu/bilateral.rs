@@ -4,7 +4,7 @@
 use opc_mesh::OrganizedPointCloud;
 use rayon::prelude::*;
 
-use super::{Offsets, PlaneSet, Planes, exp_neg, fma, min_rows_per_task, span};
+use super::{Offsets, PlaneSet, Planes, exp_neg, fma, min_rows_per_task, row_in_blocks, span};
 use crate::BilateralOptions;
 use crate::grid::{SLOT_CHUNK, TRIANGLES_PER_CELL, UNIT_BLOCK, in_slot_order, widen_units};
 
@@ -554,10 +554,9 @@ fn output_row<const TERMS: usize>(
     };
     let Cells { cols, half, .. } = filter.cells;
     let len = cols - 2 * half;
-    let blocks = len / BLOCK;
     // Per term (neighbour cell, then its triangle type kn, in raster order): the weights
     // of the type-0 and type-1 triangles with the neighbour and the neighbour's normal
-    // x, y, z; as `blocks` blocks and the rest.
+    // x, y, z.
     let terms: [[&[f32]; 5]; TERMS] = std::array::from_fn(|t| {
         let (nb, kn) = (
             &filter.offsets.neighbours[t / TRIANGLES_PER_CELL],
@@ -582,48 +581,39 @@ fn output_row<const TERMS: usize>(
             .map(|planes| planes.each_mut().map(|o| &mut o[half..half + len]));
         [a0x, a0y, a0z, a1x, a1y, a1z]
     };
-    {
-        let blocked = terms.map(|t| t.map(|s| s.as_chunks::<BLOCK>().0));
-        let [s0x, s0y, s0z, s1x, s1y, s1z] = sums.each_mut().map(|a| a.as_chunks_mut().0);
-        for b in 0..blocks {
-            [s0x[b], s0y[b], s0z[b], s1x[b], s1y[b], s1z[b]] = term_sums(&blocked, b);
-        }
-    }
-    if len % BLOCK != 0 {
-        if blocks > 0 {
-            // The last `BLOCK` cells once more: the same bits where they overlap.
-            // Blocks counted from the row's end: its last one ends with the row.
-            let from_end = terms.map(|t| t.map(|s| s.as_rchunks::<BLOCK>().1));
-            for (s, a) in sums.iter_mut().zip(term_sums(&from_end, blocks - 1)) {
-                s.as_rchunks_mut().1[blocks - 1] = a;
-            }
-        } else {
-            let cells = terms.map(|t| t.map(|s| s.as_chunks::<1>().0));
-            for i in 0..len {
-                for (s, [a]) in sums.iter_mut().zip(term_sums(&cells, i)) {
-                    s[i] = a;
-                }
-            }
-        }
-    }
+    row_in_blocks(
+        len,
+        &mut sums,
+        #[inline(always)]
+        |at| term_sums::<BLOCK, TERMS>(&terms, at),
+        #[inline(always)]
+        |i| term_sums::<1, TERMS>(&terms, i),
+    );
     for (ko, planes) in out.iter_mut().enumerate() {
         let [ax, ay, az] = planes.each_mut().map(|o| &mut o[half..half + len]);
         normalize([ax, ay, az], own, &normals[ko], types[ko].mask);
     }
 }
 
-/// The sums of the `N` cells in step `at` of the terms, each term given (in steps of `N`
-/// cells) as the weights of the cells' type-0 and type-1 triangles with a neighbour and
-/// that neighbour's normal x, y, z: the weighted normals of type 0 (x, y, z), then of
-/// type 1. They stay in registers across the terms.
+/// The sums of the `N` cells from `at` on of the terms, each term given as the weights of
+/// the cells' type-0 and type-1 triangles with a neighbour and that neighbour's normal
+/// x, y, z: the weighted normals of type 0 (x, y, z), then of type 1. They stay in
+/// registers across the terms.
 #[inline(always)]
 fn term_sums<const N: usize, const TERMS: usize>(
-    terms: &[[&[[f32; N]]; 5]; TERMS],
+    terms: &[[&[f32]; 5]; TERMS],
     at: usize,
 ) -> [[f32; N]; 6] {
     let mut acc = [[0.0f32; N]; 6];
-    for [w0, w1, qx, qy, qz] in terms {
-        let (w0, w1, qx, qy, qz) = (&w0[at], &w1[at], &qx[at], &qy[at], &qz[at]);
+    for term in terms {
+        let [w0, w1, qx, qy, qz] = term;
+        let (w0, w1, qx, qy, qz) = (
+            span(w0, at, N),
+            span(w1, at, N),
+            span(qx, at, N),
+            span(qy, at, N),
+            span(qz, at, N),
+        );
         for i in 0..N {
             acc[0][i] = fma(w0[i], qx[i], acc[0][i]);
             acc[1][i] = fma(w0[i], qy[i], acc[1][i]);

@@ -3,7 +3,7 @@
 use opc_mesh::OrganizedPointCloud;
 use rayon::prelude::*;
 
-use super::{Offsets, PlaneSet, fill_planes, min_rows_per_task, span};
+use super::{Offsets, PlaneSet, fill_planes, min_rows_per_task, row_in_blocks, span};
 use crate::LaplacianOptions;
 
 /// Reusable buffers of the Laplacian filter: the planes x, y, z, mask (see
@@ -456,45 +456,36 @@ fn shared_row<const TERMS: usize>(
         &mut oz[half..half + len],
         &mut sums[half..half + len],
     ];
-    let blocks = len / BLOCK;
-    {
-        let blocked = terms.map(|t| t.map(|s| s.as_chunks::<BLOCK>().0));
-        let [sx, sy, sz, sw] = planes.each_mut().map(|a| a.as_chunks_mut().0);
-        for b in 0..blocks {
-            [sx[b], sy[b], sz[b], sw[b]] = term_sums(&blocked, b);
-        }
-    }
-    if len % BLOCK != 0 {
-        if blocks > 0 {
-            // The last `BLOCK` points once more: the same bits where they overlap.
-            let from_end = terms.map(|t| t.map(|s| s.as_rchunks::<BLOCK>().1));
-            for (s, a) in planes.iter_mut().zip(term_sums(&from_end, blocks - 1)) {
-                s.as_rchunks_mut().1[blocks - 1] = a;
-            }
-        } else {
-            let points = terms.map(|t| t.map(|s| s.as_chunks::<1>().0));
-            for i in 0..len {
-                for (s, [a]) in planes.iter_mut().zip(term_sums(&points, i)) {
-                    s[i] = a;
-                }
-            }
-        }
-    }
+    row_in_blocks(
+        len,
+        &mut planes,
+        #[inline(always)]
+        |at| term_sums::<BLOCK, TERMS>(&terms, at),
+        #[inline(always)]
+        |i| term_sums::<1, TERMS>(&terms, i),
+    );
     let [ax, ay, az, aw] = planes;
     finish(grid, own, src, [ax, ay, az], aw);
 }
 
-/// The sums of the `N` points in step `at` of the terms, each term given (in steps of
-/// `N` points) as a neighbour's x, y, z, mask and inverse distance: Σ w x, Σ w y, Σ w z
-/// and Σ w, added in the order of [`direct_row`].
+/// The sums of the `N` points from `at` on of the terms, each term given as a
+/// neighbour's x, y, z, mask and inverse distance: Σ w x, Σ w y, Σ w z and Σ w, added in
+/// the order of [`direct_row`].
 #[inline(always)]
 fn term_sums<const N: usize, const TERMS: usize>(
-    terms: &[[&[[f32; N]]; 5]; TERMS],
+    terms: &[[&[f32]; 5]; TERMS],
     at: usize,
 ) -> [[f32; N]; 4] {
     let mut acc = [[0.0f32; N]; 4];
-    for [qx, qy, qz, qm, inverse] in terms {
-        let (qx, qy, qz, qm, inverse) = (&qx[at], &qy[at], &qz[at], &qm[at], &inverse[at]);
+    for term in terms {
+        let [qx, qy, qz, qm, inverse] = term;
+        let (qx, qy, qz, qm, inverse) = (
+            span(qx, at, N),
+            span(qy, at, N),
+            span(qz, at, N),
+            span(qm, at, N),
+            span(inverse, at, N),
+        );
         for i in 0..N {
             let w = qm[i] * inverse[i];
             acc[3][i] += w;

@@ -90,8 +90,40 @@ impl Offsets {
     }
 }
 
+/// Writes a row of `len` cells' sums into the `S` planes `out` (each `len` long) in blocks
+/// of `N` cells, `block(at)` giving the sums of cells `at..at + N`. A row that does not
+/// end on a block boundary ends with a block that overlaps the one before (the same
+/// bits where they overlap); a row shorter than a block goes cell by cell (`cell(i)`).
+#[inline(always)]
+pub(crate) fn row_in_blocks<const S: usize, const N: usize>(
+    len: usize,
+    out: &mut [&mut [f32]; S],
+    block: impl Fn(usize) -> [[f32; N]; S],
+    cell: impl Fn(usize) -> [[f32; 1]; S],
+) {
+    if len < N {
+        for i in 0..len {
+            for (o, [value]) in out.iter_mut().zip(cell(i)) {
+                o[i] = value;
+            }
+        }
+        return;
+    }
+    let mut at = 0;
+    loop {
+        let start = at.min(len - N);
+        for (o, values) in out.iter_mut().zip(block(start)) {
+            o[start..start + N].copy_from_slice(&values);
+        }
+        at += N;
+        if at >= len {
+            break;
+        }
+    }
+}
+
 /// `plane[start..start + len]`.
-#[inline]
+#[inline(always)]
 pub(crate) fn span(plane: &[f32], start: usize, len: usize) -> &[f32] {
     &plane[start..start + len]
 }
