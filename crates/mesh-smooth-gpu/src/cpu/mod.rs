@@ -27,7 +27,8 @@ pub(crate) fn fma(a: f32, b: f32, c: f32) -> f32 {
     a.mul_add(b, c)
 }
 
-/// Rows per rayon task at least; the Cpu backend uses one task for everything.
+/// Rows (or bands of rows) per rayon task at least; the Cpu backend uses one task for
+/// everything.
 pub(crate) fn min_rows_per_task(parallel: bool) -> usize {
     if parallel { 2 } else { usize::MAX }
 }
