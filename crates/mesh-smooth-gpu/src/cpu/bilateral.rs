@@ -4,7 +4,9 @@
 use opc_mesh::OrganizedPointCloud;
 use rayon::prelude::*;
 
-use super::{Offsets, PlaneSet, Planes, exp_neg, fma, min_rows_per_task, row_in_blocks, span};
+use super::{
+    Offsets, PlaneSet, Planes, exp_neg, fma, min_rows_per_task, row_in_blocks, span, term_at,
+};
 use crate::BilateralOptions;
 use crate::grid::{SLOT_CHUNK, TRIANGLES_PER_CELL, UNIT_BLOCK, in_slot_order, widen_units};
 
@@ -608,14 +610,7 @@ fn term_sums<const N: usize, const TERMS: usize>(
 ) -> [[f32; N]; 6] {
     let mut acc = [[0.0f32; N]; 6];
     for term in terms {
-        let [w0, w1, qx, qy, qz] = term;
-        let (w0, w1, qx, qy, qz) = (
-            span(w0, at, N),
-            span(w1, at, N),
-            span(qx, at, N),
-            span(qy, at, N),
-            span(qz, at, N),
-        );
+        let [w0, w1, qx, qy, qz] = term_at::<N>(term, at);
         for i in 0..N {
             acc[0][i] = fma(w0[i], qx[i], acc[0][i]);
             acc[1][i] = fma(w0[i], qy[i], acc[1][i]);

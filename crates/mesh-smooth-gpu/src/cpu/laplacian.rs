@@ -3,7 +3,7 @@
 use opc_mesh::OrganizedPointCloud;
 use rayon::prelude::*;
 
-use super::{Offsets, PlaneSet, fill_planes, min_rows_per_task, row_in_blocks, span};
+use super::{Offsets, PlaneSet, fill_planes, min_rows_per_task, row_in_blocks, span, term_at};
 use crate::LaplacianOptions;
 
 /// Reusable buffers of the Laplacian filter: the planes x, y, z, mask (see
@@ -480,14 +480,7 @@ fn term_sums<const N: usize, const TERMS: usize>(
 ) -> [[f32; N]; 4] {
     let mut acc = [[0.0f32; N]; 4];
     for term in terms {
-        let [qx, qy, qz, qm, inverse] = term;
-        let (qx, qy, qz, qm, inverse) = (
-            span(qx, at, N),
-            span(qy, at, N),
-            span(qz, at, N),
-            span(qm, at, N),
-            span(inverse, at, N),
-        );
+        let [qx, qy, qz, qm, inverse] = term_at::<N>(term, at);
         for i in 0..N {
             let w = qm[i] * inverse[i];
             acc[3][i] += w;

@@ -123,6 +123,20 @@ pub(crate) fn row_in_blocks<const S: usize, const N: usize>(
     }
 }
 
+/// The `N` values from `at` on of each of a term's five slices (written out: a closure
+/// mapped over the array can stay out of line, without the kernel's target features).
+#[inline(always)]
+pub(crate) fn term_at<'a, const N: usize>(term: &[&'a [f32]; 5], at: usize) -> [&'a [f32]; 5] {
+    let [a, b, c, d, e] = *term;
+    [
+        span(a, at, N),
+        span(b, at, N),
+        span(c, at, N),
+        span(d, at, N),
+        span(e, at, N),
+    ]
+}
+
 /// `plane[start..start + len]`.
 #[inline(always)]
 pub(crate) fn span(plane: &[f32], start: usize, len: usize) -> &[f32] {
