@@ -5,7 +5,8 @@ use opc_mesh::OrganizedPointCloud;
 use rayon::prelude::*;
 
 use super::{
-    Offsets, PlaneSet, Planes, exp_neg, fma, min_rows_per_task, row_in_blocks, span, term_at,
+    Band, Offsets, PlaneSet, Planes, Ring, exp_neg, fma, min_rows_per_task, row_in_blocks, span,
+    term_at,
 };
 use crate::BilateralOptions;
 use crate::grid::{SLOT_CHUNK, TRIANGLES_PER_CELL, UNIT_BLOCK, in_slot_order, widen_units};
@@ -194,12 +195,13 @@ pub(crate) fn bilateral_of_planes<'a>(
                     || filter.ring(),
                     |ring, (b, (a, b2, c, d, e, f))| {
                         let first = b * band / cells.cols;
+                        let part = ring.band(first, first + a.len() / cells.cols, filter.above());
                         rows_of_band(
                             &filter,
-                            first,
+                            part,
                             &previous,
                             &views,
-                            ring,
+                            &mut ring.values,
                             [[a, b2, c], [d, e, f]],
                         );
                     },
@@ -355,13 +357,22 @@ impl Filter {
         self.cells.half <= 3
     }
 
+    /// The rows above a band whose pair weights the band reads: `half` when shared.
+    fn above(&self) -> usize {
+        if self.shares_pairs() {
+            self.cells.half
+        } else {
+            0
+        }
+    }
+
     /// Room for the pair weights of `half + 1` cell rows (none without sharing).
-    fn ring(&self) -> Vec<f32> {
+    fn ring(&self) -> Ring {
         if !self.shares_pairs() {
-            return Vec::new();
+            return Ring::new(0);
         }
         let per_row = self.offsets.forward.len() * TRIANGLES_PER_CELL * TRIANGLES_PER_CELL;
-        vec![0.0; (self.cells.half + 1) * per_row * self.cells.cols]
+        Ring::new((self.cells.half + 1) * per_row * self.cells.cols)
     }
 
     /// The weight of a pair of triangles from their centroids' difference `e` and their
@@ -396,14 +407,15 @@ impl Filter {
     }
 }
 
-/// Cell rows per band of the parallel backend; a task takes two bands at least. Each
-/// band first computes the pair weights of the `half` rows above it; results do not
-/// depend on it. Bands of 8 rows rather than 16 took the filter at 424 × 240 from
-/// 2.16–2.27 to 2.08–2.17 ms on 2 threads, at 640 × 480 (ICL) from 1.84–1.92 to 1.72–1.78.
+/// Cell rows per band of the parallel backend; a task takes two bands at least. A task's
+/// first band first computes the pair weights of the `half` rows above it (see
+/// [`Ring`]); results do not depend on it. Bands of 8 rows rather than 16 took the filter
+/// at 424 × 240 from 2.16–2.27 to 2.08–2.17 ms on 2 threads, at 640 × 480 (ICL) from
+/// 1.84–1.92 to 1.72–1.78.
 const BAND_ROWS: usize = 8;
 
-/// Writes the cell rows of the band starting at row `first` (both triangle types) into
-/// `out`, which holds the band's rows.
+/// Writes the cell rows of `band` from its first on (both triangle types) into `out`,
+/// which holds those rows, after the pair weights of the rows from its start on.
 ///
 /// The weight of a pair of triangles depends on their centroids' and normals'
 /// distances only, so it is the same seen from either: it is computed once, row by row,
@@ -419,20 +431,16 @@ const BAND_ROWS: usize = 8;
 ))]
 fn rows_of_band(
     filter: &Filter,
-    first: usize,
+    band: Band,
     normals: &[Xyz<'_>; 2],
     types: &[TypeView<'_>; 2],
     ring: &mut [f32],
     mut out: [[&mut [f32]; 3]; 2],
 ) {
     let Cells { rows, cols, half } = filter.cells;
+    let Band { start, first } = band;
     let last = first + out[0][0].len() / cols;
     let shared = filter.shares_pairs();
-    let start = if shared {
-        first.saturating_sub(half)
-    } else {
-        first
-    };
     for r in start..last {
         // Rows within `half` of the bottom are nobody's backward neighbours.
         if shared && r + half < rows {
@@ -795,15 +803,30 @@ mod tests {
                     .map(|planes| planes.each_mut().map(|p| &mut p[at.clone()]));
                 direct_row(&filter, r, &normals, &types, out);
             }
-            for band in [1, 2, 5, rows] {
+            // Bands continuing one ring (in order, as a rayon task takes them), and bands
+            // each on a ring of stale weights.
+            for (band, shared) in [1, 2, 5, rows]
+                .into_iter()
+                .flat_map(|b| [(b, true), (b, false)])
+            {
                 let mut got = empty(rows * cols);
-                let mut ring = filter.ring();
+                let stale = || {
+                    let mut ring = filter.ring();
+                    ring.values.fill(f32::NAN);
+                    ring
+                };
+                let mut ring = stale();
                 for first in (0..rows).step_by(band) {
+                    if !shared {
+                        ring = stale();
+                    }
                     let at = first * cols..(first + band).min(rows) * cols;
                     let out = got
                         .each_mut()
                         .map(|planes| planes.each_mut().map(|p| &mut p[at.clone()]));
-                    rows_of_band(&filter, first, &normals, &types, &mut ring, out);
+                    let last = (first + band).min(rows);
+                    let part = ring.band(first, last, filter.above());
+                    rows_of_band(&filter, part, &normals, &types, &mut ring.values, out);
                 }
                 let bits = |v: &[[Vec<f32>; 3]; 2]| -> Vec<u32> {
                     v.iter().flatten().flatten().map(|f| f.to_bits()).collect()
@@ -811,7 +834,7 @@ mod tests {
                 assert_eq!(
                     bits(&got),
                     bits(&expected),
-                    "{rows}×{cols}, half {half}, band {band}"
+                    "{rows}×{cols}, half {half}, band {band}, shared ring {shared}"
                 );
             }
         }

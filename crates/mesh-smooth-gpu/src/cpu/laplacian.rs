@@ -3,7 +3,9 @@
 use opc_mesh::OrganizedPointCloud;
 use rayon::prelude::*;
 
-use super::{Offsets, PlaneSet, fill_planes, min_rows_per_task, row_in_blocks, span, term_at};
+use super::{
+    Band, Offsets, PlaneSet, Ring, fill_planes, min_rows_per_task, row_in_blocks, span, term_at,
+};
 use crate::LaplacianOptions;
 
 /// Reusable buffers of the Laplacian filter: the planes x, y, z, mask (see
@@ -229,7 +231,9 @@ fn filter<'a>(
                 || stencil.ring(),
                 |ring, (b, (ox, oy, oz, ow))| {
                     let first = b * band / cols;
-                    rows_of_band(&stencil, first, &source, ring, [ox, oy, oz], ow, limits);
+                    let part = ring.band(first, first + ow.len() / cols, stencil.above());
+                    let out = [ox, oy, oz];
+                    rows_of_band(&stencil, part, &source, &mut ring.values, out, ow, limits);
                 },
             );
         std::mem::swap(&mut current, &mut next);
@@ -259,10 +263,11 @@ struct Grid {
     epsilon: f32,
 }
 
-/// Rows per band of the parallel backend; a task takes two bands at least. Each band
-/// first computes the inverse distances of the `half` rows above it (results do not
-/// depend on it). With 32-row bands a 213 × 160 frame (640 × 480 decimated by 3) had too
-/// few tasks for two threads: its filter took 0.40 ms instead of 0.24.
+/// Rows per band of the parallel backend; a task takes two bands at least. A task's first
+/// band first computes the inverse distances of the `half` rows above it (see [`Ring`];
+/// results do not depend on it). With 32-row bands a 213 × 160 frame (640 × 480
+/// decimated by 3) had too few tasks for two threads: its filter took 0.40 ms instead of
+/// 0.24.
 const BAND_ROWS: usize = 8;
 
 /// Which pixels a pass filters when their passes are counted per pixel.
@@ -290,12 +295,22 @@ impl Stencil {
         self.grid.half <= 3
     }
 
-    /// Room for the inverse distances of `half + 1` rows (none without sharing).
-    fn ring(&self) -> Vec<f32> {
-        if !self.shares_pairs() {
-            return Vec::new();
+    /// The rows above a band whose inverse distances the band reads: `half` when
+    /// shared.
+    fn above(&self) -> usize {
+        if self.shares_pairs() {
+            self.grid.half
+        } else {
+            0
         }
-        vec![0.0; (self.grid.half + 1) * self.offsets.forward.len() * self.grid.cols]
+    }
+
+    /// Room for the inverse distances of `half + 1` rows (none without sharing).
+    fn ring(&self) -> Ring {
+        if !self.shares_pairs() {
+            return Ring::new(0);
+        }
+        Ring::new((self.grid.half + 1) * self.offsets.forward.len() * self.grid.cols)
     }
 
     /// Where, in the ring, the inverse distances between the points of row `r` and
@@ -306,8 +321,9 @@ impl Stencil {
     }
 }
 
-/// Writes the rows of the band starting at row `first` of the next pass into `out` and
-/// their weight sums into `sums`, both holding the band's rows.
+/// Writes the rows of `band` from its first on of the next pass into `out` and their
+/// weight sums into `sums`, both holding those rows, after the inverse distances of the
+/// rows from its start on.
 ///
 /// A pair of points has the same distance seen from either, so `1 / (d + ε)` is computed
 /// once per pair, row by row, for the offsets that point forward, into a ring of the
@@ -319,7 +335,7 @@ impl Stencil {
 #[multiversion::multiversion(targets("x86_64+avx512f+avx512vl+avx512bw+avx512dq", "x86_64+avx2"))]
 fn rows_of_band(
     stencil: &Stencil,
-    first: usize,
+    band: Band,
     src: &Source<'_>,
     ring: &mut [f32],
     out: [&mut [f32]; 3],
@@ -329,13 +345,9 @@ fn rows_of_band(
     let Grid {
         rows, cols, half, ..
     } = stencil.grid;
+    let Band { start, first } = band;
     let last = first + sums.len() / cols;
     let shared = stencil.shares_pairs();
-    let start = if shared {
-        first.saturating_sub(half)
-    } else {
-        first
-    };
     let [ox, oy, oz] = out;
     for r in start..last {
         // Rows within `half` of the bottom are nobody's backward neighbours.
@@ -661,9 +673,19 @@ mod tests {
                     ];
                     direct_row(&stencil.grid, r, &src, out, &mut ww[at]);
                 }
-                for band in [1, 3, rows] {
-                    let mut got = [(); 4].map(|_| vec![f32::NAN; n]);
+                // Bands continuing one ring (in order, as a rayon task takes them), and
+                // bands each on a ring of stale values.
+                let stale = || {
                     let mut ring = stencil.ring();
+                    ring.values.fill(f32::NAN);
+                    ring
+                };
+                for (band, shared) in [1, 3, rows]
+                    .into_iter()
+                    .flat_map(|b| [(b, true), (b, false)])
+                {
+                    let mut got = [(); 4].map(|_| vec![f32::NAN; n]);
+                    let mut ring = stale();
                     let [gx, gy, gz, gw] = &mut got;
                     for (b, (((ox, oy), oz), ow)) in gx
                         .chunks_mut(band * cols)
@@ -672,7 +694,13 @@ mod tests {
                         .zip(gw.chunks_mut(band * cols))
                         .enumerate()
                     {
-                        rows_of_band(&stencil, b * band, &src, &mut ring, [ox, oy, oz], ow, None);
+                        if !shared {
+                            ring = stale();
+                        }
+                        let first = b * band;
+                        let part = ring.band(first, first + ow.len() / cols, stencil.above());
+                        let out = [ox, oy, oz];
+                        rows_of_band(&stencil, part, &src, &mut ring.values, out, ow, None);
                     }
                     let bits = |v: &[Vec<f32>; 4]| -> Vec<u32> {
                         v.iter().flatten().map(|f| f.to_bits()).collect()
@@ -680,7 +708,7 @@ mod tests {
                     assert_eq!(
                         bits(&got),
                         bits(&want),
-                        "half {half}, cols {cols}, band {band}"
+                        "half {half}, cols {cols}, band {band}, shared ring {shared}"
                     );
                 }
             }

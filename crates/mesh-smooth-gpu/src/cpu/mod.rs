@@ -91,6 +91,46 @@ impl Offsets {
     }
 }
 
+/// A band kernel's ring of pair weights (the last `half + 1` rows' worth), and where the
+/// band that filled it last ended: a band starting there finds the rows above it in place
+/// and skips recomputing them. Rayon hands a task its bands in order, so only a task's
+/// first band computes the rows above it.
+pub(crate) struct Ring {
+    pub values: Vec<f32>,
+    /// The row after the last band's; `usize::MAX` before any band.
+    next: usize,
+}
+
+/// The rows a band kernel runs: it computes the pair weights of the rows from `start`
+/// on and writes the rows from `first` on.
+#[derive(Clone, Copy)]
+pub(crate) struct Band {
+    pub start: usize,
+    pub first: usize,
+}
+
+impl Ring {
+    /// A ring of `len` weights, continuing no band.
+    pub fn new(len: usize) -> Self {
+        Self {
+            values: vec![0.0; len],
+            next: usize::MAX,
+        }
+    }
+
+    /// The rows of the band `first..last` of a kernel that needs the pair weights of the
+    /// `above` rows over a band: none when this ring continues the band above.
+    pub fn band(&mut self, first: usize, last: usize, above: usize) -> Band {
+        let start = if self.next == first {
+            first
+        } else {
+            first.saturating_sub(above)
+        };
+        self.next = last;
+        Band { start, first }
+    }
+}
+
 /// Writes a row of `len` cells' sums into the `S` planes `out` (each `len` long) in blocks
 /// of `N` cells, `block(at)` giving the sums of cells `at..at + N`. A row that does not
 /// end on a block boundary ends with a block that overlaps the one before (the same
