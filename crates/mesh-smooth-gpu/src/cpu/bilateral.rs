@@ -195,7 +195,8 @@ pub(crate) fn bilateral_of_planes<'a>(
                     || filter.ring(),
                     |ring, (b, (a, b2, c, d, e, f))| {
                         let first = b * band / cells.cols;
-                        let part = ring.band(first, first + a.len() / cells.cols, filter.above());
+                        let part =
+                            ring.band(first, first + a.len() / cells.cols, filter.offsets.above());
                         rows_of_band(
                             &filter,
                             part,
@@ -350,29 +351,10 @@ impl Filter {
         }
     }
 
-    /// Whether pair weights are shared through a ring: up to kernel 7, where the ring
-    /// holds at most 384 rows of weights. Larger kernels compute each weight where it is
-    /// used, in no more memory than the planes.
-    fn shares_pairs(&self) -> bool {
-        self.cells.half <= 3
-    }
-
-    /// The rows above a band whose pair weights the band reads: `half` when shared.
-    fn above(&self) -> usize {
-        if self.shares_pairs() {
-            self.cells.half
-        } else {
-            0
-        }
-    }
-
     /// Room for the pair weights of `half + 1` cell rows (none without sharing).
     fn ring(&self) -> Ring {
-        if !self.shares_pairs() {
-            return Ring::new(0);
-        }
         let per_row = self.offsets.forward.len() * TRIANGLES_PER_CELL * TRIANGLES_PER_CELL;
-        Ring::new((self.cells.half + 1) * per_row * self.cells.cols)
+        self.offsets.ring(per_row * self.cells.cols)
     }
 
     /// The weight of a pair of triangles from their centroids' difference `e` and their
@@ -440,7 +422,7 @@ fn rows_of_band(
     let Cells { rows, cols, half } = filter.cells;
     let Band { start, first } = band;
     let last = first + out[0][0].len() / cols;
-    let shared = filter.shares_pairs();
+    let shared = filter.offsets.shares_pairs();
     for r in start..last {
         // Rows within `half` of the bottom are nobody's backward neighbours.
         if shared && r + half < rows {
@@ -825,7 +807,7 @@ mod tests {
                         .each_mut()
                         .map(|planes| planes.each_mut().map(|p| &mut p[at.clone()]));
                     let last = (first + band).min(rows);
-                    let part = ring.band(first, last, filter.above());
+                    let part = ring.band(first, last, filter.offsets.above());
                     rows_of_band(&filter, part, &normals, &types, &mut ring.values, out);
                 }
                 let bits = |v: &[[Vec<f32>; 3]; 2]| -> Vec<u32> {

@@ -231,7 +231,7 @@ fn filter<'a>(
                 || stencil.ring(),
                 |ring, (b, (ox, oy, oz, ow))| {
                     let first = b * band / cols;
-                    let part = ring.band(first, first + ow.len() / cols, stencil.above());
+                    let part = ring.band(first, first + ow.len() / cols, stencil.offsets.above());
                     let out = [ox, oy, oz];
                     rows_of_band(&stencil, part, &source, &mut ring.values, out, ow, limits);
                 },
@@ -288,29 +288,10 @@ struct Stencil {
 }
 
 impl Stencil {
-    /// Whether pairs share their inverse distance through a ring: up to kernel 7, whose
-    /// terms [`shared_row`] keeps in an array. Larger kernels compute each where it is
-    /// used.
-    fn shares_pairs(&self) -> bool {
-        self.grid.half <= 3
-    }
-
-    /// The rows above a band whose inverse distances the band reads: `half` when
-    /// shared.
-    fn above(&self) -> usize {
-        if self.shares_pairs() {
-            self.grid.half
-        } else {
-            0
-        }
-    }
-
     /// Room for the inverse distances of `half + 1` rows (none without sharing).
     fn ring(&self) -> Ring {
-        if !self.shares_pairs() {
-            return Ring::new(0);
-        }
-        Ring::new((self.grid.half + 1) * self.offsets.forward.len() * self.grid.cols)
+        self.offsets
+            .ring(self.offsets.forward.len() * self.grid.cols)
     }
 
     /// Where, in the ring, the inverse distances between the points of row `r` and
@@ -347,7 +328,7 @@ fn rows_of_band(
     } = stencil.grid;
     let Band { start, first } = band;
     let last = first + sums.len() / cols;
-    let shared = stencil.shares_pairs();
+    let shared = stencil.offsets.shares_pairs();
     let [ox, oy, oz] = out;
     for r in start..last {
         // Rows within `half` of the bottom are nobody's backward neighbours.
@@ -698,7 +679,8 @@ mod tests {
                             ring = stale();
                         }
                         let first = b * band;
-                        let part = ring.band(first, first + ow.len() / cols, stencil.above());
+                        let part =
+                            ring.band(first, first + ow.len() / cols, stencil.offsets.above());
                         let out = [ox, oy, oz];
                         rows_of_band(&stencil, part, &src, &mut ring.values, out, ow, None);
                     }

@@ -51,6 +51,8 @@ pub(crate) struct Neighbour {
 /// computes them once, for the forward offsets of each point, and finds a backward
 /// neighbour's weight at that neighbour.
 pub(crate) struct Offsets {
+    /// The kernel's half-width.
+    pub half: usize,
     /// Offsets later in raster order than `(0, 0)`, in raster order.
     pub forward: Vec<(usize, isize)>,
     /// All offsets but `(0, 0)`, in raster order: the order of the sums.
@@ -85,9 +87,31 @@ impl Offsets {
             })
             .collect();
         Self {
+            half,
             forward,
             neighbours,
         }
+    }
+
+    /// Whether the filter shares pair weights through a ring: up to kernel 7, whose sums
+    /// keep their terms (at most 96) in an array and whose ring holds at most 4 rows.
+    /// Larger kernels compute each weight where it is used.
+    pub fn shares_pairs(&self) -> bool {
+        self.half <= 3
+    }
+
+    /// The rows above a band whose pair weights the band reads: `half` when shared.
+    pub fn above(&self) -> usize {
+        if self.shares_pairs() { self.half } else { 0 }
+    }
+
+    /// A ring for `half + 1` rows of `per_row` weights (none without sharing).
+    pub fn ring(&self, per_row: usize) -> Ring {
+        Ring::new(if self.shares_pairs() {
+            (self.half + 1) * per_row
+        } else {
+            0
+        })
     }
 }
 
