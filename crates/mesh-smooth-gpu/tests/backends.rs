@@ -8,6 +8,7 @@ use common::{bits, normal_bits, wavy_cloud};
 use mesh_smooth_gpu::{
     BilateralOptions, CpuSmoother, GpuSmoother, LaplacianOptions, SmoothError, Smoother,
 };
+use opc_mesh::OrganizedPointCloud;
 use proptest::prelude::*;
 
 fn pool(threads: usize) -> rayon::ThreadPool {
@@ -146,18 +147,22 @@ proptest! {
     /// computed from the same numbers); pixels with `b` passes far enough from the others
     /// that the frozen ones cannot reach them within `b` passes take the uniform `b`-pass
     /// values; one count everywhere is the uniform filter; 0 leaves a pixel bit for bit.
+    /// The counts split the grid by columns, or by rows (whose finished rows the filter
+    /// copies whole).
     #[test]
     fn per_pixel_passes_match_uniform_runs(
         rows in 8usize..40, cols in 24usize..60, seed in any::<u64>(), holes in 0.0f64..0.3,
         half in 1u32..3, a in 0u8..3, extra in 1u8..4, split in 0.2f64..0.8,
-        threads in 1usize..4,
+        threads in 1usize..4, by_rows in any::<bool>(),
     ) {
         let b = a + extra;
         let cloud = wavy_cloud(rows, cols, seed, 0.01, holes);
         let options = LaplacianOptions::new().with_kernel(2 * half + 1).with_lambda(0.8);
-        let boundary = (split * cols as f64) as usize;
+        // The coordinate across the split: the column, or the row.
+        let across = |i: usize| if by_rows { i / cols } else { i % cols };
+        let boundary = (split * if by_rows { rows } else { cols } as f64) as usize;
         let passes: Vec<u8> =
-            (0..rows * cols).map(|i| if i % cols < boundary { a } else { b }).collect();
+            (0..rows * cols).map(|i| if across(i) < boundary { a } else { b }).collect();
         let mut smoother = CpuSmoother::new();
         let mut mixed = cloud.clone();
         pool(threads)
@@ -169,10 +174,10 @@ proptest! {
         };
         let (low, high) = (uniform(a), uniform(b));
         // Frozen pixels influence others from the pass after they stop: b − a passes of
-        // reach, `half` columns each.
+        // reach, `half` columns (or rows) each.
         let reach = (usize::from(b - a) + 1) * half as usize;
         for (i, p) in mixed.points().iter().enumerate() {
-            let c = i % cols;
+            let c = across(i);
             let bits_of = |q: &[f64; 3]| q.map(f64::to_bits);
             if c < boundary {
                 prop_assert_eq!(bits_of(p), bits_of(&low.points()[i]), "pixel {}", i);
@@ -185,6 +190,48 @@ proptest! {
             .laplacian_in_place_per_pixel(&mut same, &options, &vec![b; rows * cols])
             .expect("valid");
         prop_assert_eq!(bits(same.points()), bits(high.points()));
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(24))]
+
+    /// Per-pixel pass counts on 1–3 threads against their definition, pass by pass: each
+    /// pass is one uniform pass of the serial filter over the whole cloud, after which the
+    /// pixels whose count it reached take back their points. Counts come per row (so that whole rows finish early) with
+    /// some pixels of their own; every pixel is compared, bit for bit.
+    #[test]
+    fn per_pixel_passes_follow_their_definition(
+        rows in 6usize..48, cols in 6usize..50, seed in any::<u64>(), holes in 0.0f64..0.3,
+        half in 1u32..4, threads in 1usize..4,
+        row_counts in proptest::collection::vec(0u8..4, 48),
+        own in proptest::collection::vec(proptest::option::weighted(0.2, 0u8..4), 2400),
+    ) {
+        let cloud = wavy_cloud(rows, cols, seed, 0.01, holes);
+        let options = LaplacianOptions::new().with_kernel(2 * half + 1).with_lambda(0.8);
+        let passes: Vec<u8> =
+            (0..rows * cols).map(|i| own[i].unwrap_or(row_counts[i / cols])).collect();
+        let mut smoother = CpuSmoother::new();
+        let mut got = cloud.clone();
+        pool(threads)
+            .install(|| smoother.laplacian_in_place_per_pixel(&mut got, &options, &passes))
+            .expect("valid");
+        // One task over the whole grid: no band split shared with the run checked.
+        let mut serial = CpuSmoother::serial();
+        let mut want = cloud.clone();
+        let one_pass = options.with_iterations(1);
+        for pass in 0..passes.iter().copied().max().unwrap_or(0) {
+            let next = serial.laplacian(&want, &one_pass).expect("valid");
+            let points: Vec<[f64; 3]> = want
+                .points()
+                .iter()
+                .zip(next.points())
+                .zip(&passes)
+                .map(|((&kept, &moved), &count)| if count > pass { moved } else { kept })
+                .collect();
+            want = OrganizedPointCloud::new(rows, cols, points).expect("same shape");
+        }
+        prop_assert_eq!(bits(got.points()), bits(want.points()));
     }
 }
 
