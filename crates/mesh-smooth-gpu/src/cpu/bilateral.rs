@@ -5,8 +5,8 @@ use opc_mesh::OrganizedPointCloud;
 use rayon::prelude::*;
 
 use super::{
-    Band, Offsets, PlaneSet, Planes, Ring, exp_neg, fma, min_rows_per_task, row_in_blocks, span,
-    term_at,
+    Band, Offsets, PlaneSet, Planes, Ring, exp2_nonpositive, fma, min_rows_per_task, row_in_blocks,
+    span, term_at,
 };
 use crate::BilateralOptions;
 use crate::grid::{SLOT_CHUNK, TRIANGLES_PER_CELL, UNIT_BLOCK, in_slot_order, widen_units};
@@ -335,18 +335,21 @@ struct Cells {
 
 struct Filter {
     cells: Cells,
-    inv_var_length: f32,
-    inv_var_angle: f32,
+    /// The inverse variances of length and of the normals' distance in powers of two:
+    /// `log2 e / σ²`; the second doubled (see [`Filter::weight`]).
+    length_log2: f32,
+    two_angle_log2: f32,
     /// The kernel's cell offsets.
     offsets: Offsets,
 }
 
 impl Filter {
     fn new(cells: Cells, inv_var_length: f32, inv_var_angle: f32) -> Self {
+        let log2_e = std::f32::consts::LOG2_E;
         Self {
             cells,
-            inv_var_length,
-            inv_var_angle,
+            length_log2: inv_var_length * log2_e,
+            two_angle_log2: 2.0 * inv_var_angle * log2_e,
             offsets: Offsets::new(cells.half),
         }
     }
@@ -358,11 +361,12 @@ impl Filter {
     }
 
     /// The weight of a pair of triangles from their centroids' difference `e` and their
-    /// normals `n`, `m`, in fused multiply-adds (see [`fma`]). For unit normals the
-    /// squared difference `|n − m|²` is `2 − 2 n · m`: one dot product instead of three
-    /// differences. A missing triangle's zero normal gets a wrong weight that way, but
-    /// harmlessly: its own sum is never used (it keeps its normal) and its zero normal
-    /// adds nothing to its neighbours' sums. The same bits whichever triangle comes first.
+    /// normals `n`, `m`, in fused multiply-adds (see [`fma`]): `exp(−|e|²/σl² −
+    /// |n − m|²/σa²)` as a power of two. For unit normals the squared difference
+    /// `|n − m|²` is `2 − 2 n · m`: one dot product instead of three differences. A
+    /// missing triangle's zero normal gets a wrong weight that way, but harmlessly: its
+    /// own sum is never used (it keeps its normal) and its zero normal adds nothing to its
+    /// neighbours' sums. The same bits whichever triangle comes first.
     #[inline(always)]
     fn weight(
         &self,
@@ -372,11 +376,10 @@ impl Filter {
     ) -> f32 {
         let length = fma(ez, ez, fma(ey, ey, ex * ex));
         let dot = fma(nz, mz, fma(ny, my, nx * mx));
-        let two_iva = 2.0 * self.inv_var_angle;
-        exp_neg(fma(
+        exp2_nonpositive(fma(
             dot,
-            -two_iva,
-            fma(length, self.inv_var_length, two_iva),
+            self.two_angle_log2,
+            fma(length, -self.length_log2, -self.two_angle_log2),
         ))
     }
 

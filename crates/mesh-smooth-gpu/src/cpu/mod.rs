@@ -12,7 +12,7 @@ mod laplacian;
 
 pub use smoother::{CpuSmoother, Smoothed, SmoothedPlanes};
 
-pub(crate) use fast_exp::exp_neg;
+pub(crate) use fast_exp::exp2_nonpositive;
 
 mod smoother;
 
