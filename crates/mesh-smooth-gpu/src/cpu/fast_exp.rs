@@ -98,7 +98,7 @@ mod tests {
                 f32::from_bits(t.to_bits() + 1),
                 f32::from_bits(t.to_bits().max(1) - 1),
             ] {
-                if u <= 0.0 && u >= -EXP2_CUTOFF {
+                if (-EXP2_CUTOFF..=0.0).contains(&u) {
                     check(u);
                 }
             }
