@@ -354,7 +354,8 @@ impl Filter {
         }
     }
 
-    /// Room for the pair weights of `half + 1` cell rows (none without sharing).
+    /// Room for the pair weights of the ring's cell rows, at least `half + 1` (none without
+    /// sharing).
     fn ring(&self) -> Ring {
         let per_row = self.offsets.forward.len() * TRIANGLES_PER_CELL * TRIANGLES_PER_CELL;
         self.offsets.ring(per_row * self.cells.cols)
@@ -387,7 +388,7 @@ impl Filter {
     /// and the type-`k2` ones at forward offset `pair` from them start.
     #[inline(always)]
     fn ring_row(&self, r: usize, pair: usize, k1: usize, k2: usize) -> usize {
-        let slot = (r % (self.cells.half + 1)) * self.offsets.forward.len() + pair;
+        let slot = self.offsets.ring_slot(r) * self.offsets.forward.len() + pair;
         ((slot * TRIANGLES_PER_CELL + k1) * TRIANGLES_PER_CELL + k2) * self.cells.cols
     }
 }

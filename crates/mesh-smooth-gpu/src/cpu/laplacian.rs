@@ -288,7 +288,8 @@ struct Stencil {
 }
 
 impl Stencil {
-    /// Room for the inverse distances of `half + 1` rows (none without sharing).
+    /// Room for the inverse distances of the ring's rows, at least `half + 1` (none without
+    /// sharing).
     fn ring(&self) -> Ring {
         self.offsets
             .ring(self.offsets.forward.len() * self.grid.cols)
@@ -298,7 +299,7 @@ impl Stencil {
     /// those at forward offset `pair` from them start.
     #[inline(always)]
     fn ring_row(&self, r: usize, pair: usize) -> usize {
-        ((r % (self.grid.half + 1)) * self.offsets.forward.len() + pair) * self.grid.cols
+        (self.offsets.ring_slot(r) * self.offsets.forward.len() + pair) * self.grid.cols
     }
 }
 

@@ -105,17 +105,30 @@ impl Offsets {
         if self.shares_pairs() { self.half } else { 0 }
     }
 
-    /// A ring for `half + 1` rows of `per_row` weights (none without sharing).
+    /// Rows of a ring: at least `half + 1`, a power of two so that a row's place in it
+    /// is a mask ([`Self::ring_slot`]) and not a division, of which the row kernels took
+    /// up to 36 per row (5 % of the bilateral filter's time at 424 × 240).
+    fn ring_rows(&self) -> usize {
+        (self.half + 1).next_power_of_two()
+    }
+
+    /// Where row `r`'s weights sit in a ring: which of its [`Self::ring_rows`] rows.
+    #[inline(always)]
+    pub fn ring_slot(&self, r: usize) -> usize {
+        r & (self.ring_rows() - 1)
+    }
+
+    /// A ring of [`Self::ring_rows`] rows of `per_row` weights (none without sharing).
     pub fn ring(&self, per_row: usize) -> Ring {
         Ring::new(if self.shares_pairs() {
-            (self.half + 1) * per_row
+            self.ring_rows() * per_row
         } else {
             0
         })
     }
 }
 
-/// A band kernel's ring of pair weights (the last `half + 1` rows' worth), and where the
+/// A band kernel's ring of pair weights (at least the last `half + 1` rows' worth), and where the
 /// band that filled it last ended: a band starting there finds the rows above it in place
 /// and skips recomputing them. Rayon hands a task its bands in order, so only a task's
 /// first band computes the rows above it.
