@@ -555,7 +555,9 @@ fn output_row<const TERMS: usize>(
     // Per term (neighbour cell, then its triangle type kn, in raster order): the weights
     // of the type-0 and type-1 triangles with the neighbour and the neighbour's normal
     // x, y, z.
-    let terms: [[&[f32]; 5]; TERMS] = std::array::from_fn(|t| {
+    // Filled in a loop: `std::array::from_fn` ran out of line, a call per term.
+    let mut terms: [[&[f32]; 5]; TERMS] = [[&[]; 5]; TERMS];
+    for (t, term) in terms.iter_mut().enumerate() {
         let (nb, kn) = (
             &filter.offsets.neighbours[t / TRIANGLES_PER_CELL],
             t % TRIANGLES_PER_CELL,
@@ -571,8 +573,8 @@ fn output_row<const TERMS: usize>(
         };
         let q = own.wrapping_add_signed(nb.dr * cols as isize + nb.dc);
         let [x, y, z] = normals[kn].each_ref().map(|n| span(n, q, len));
-        [w(0), w(1), x, y, z]
-    });
+        *term = [w(0), w(1), x, y, z];
+    }
     let mut sums = {
         let [[a0x, a0y, a0z], [a1x, a1y, a1z]] = out
             .each_mut()

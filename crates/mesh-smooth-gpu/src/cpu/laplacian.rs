@@ -434,8 +434,10 @@ fn shared_row<const TERMS: usize>(
     let Grid { cols, half, .. } = *grid;
     let len = cols - 2 * half;
     // Per neighbour, in raster order: its x, y, z, mask and the pair's inverse distance.
-    let terms: [[&[f32]; 5]; TERMS] = std::array::from_fn(|t| {
-        let nb = &stencil.offsets.neighbours[t];
+    // Filled in a loop: `std::array::from_fn` ran out of line, a call per term.
+    let mut terms: [[&[f32]; 5]; TERMS] = [[&[]; 5]; TERMS];
+    debug_assert_eq!(stencil.offsets.neighbours.len(), TERMS);
+    for (nb, term) in stencil.offsets.neighbours.iter().zip(&mut terms) {
         let inverses = if nb.forward {
             stencil.ring_row(r, nb.pair) + half
         } else {
@@ -444,8 +446,8 @@ fn shared_row<const TERMS: usize>(
         };
         let q = own.wrapping_add_signed(nb.dr * cols as isize + nb.dc);
         let [x, y, z, m] = [src.x, src.y, src.z, src.m].map(|p| span(p, q, len));
-        [x, y, z, m, span(ring, inverses, len)]
-    });
+        *term = [x, y, z, m, span(ring, inverses, len)];
+    }
     let mut planes = [
         &mut ox[half..half + len],
         &mut oy[half..half + len],
