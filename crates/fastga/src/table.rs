@@ -188,7 +188,11 @@ impl CellTable {
     /// The candidate of `entry` closest to `p`; the earlier one on ties.
     #[inline(always)]
     fn closest(&self, entry: [usize; SLOTS], p: [f64; 3]) -> u32 {
-        let d = entry.map(|c| dot(self.normals[c], p));
+        // A loop, not `entry.map`: that ran out of line, a call per normal.
+        let mut d = [0.0; SLOTS];
+        for (d, &c) in d.iter_mut().zip(&entry) {
+            *d = dot(self.normals[c], p);
+        }
         let mut best = entry[0];
         let mut best_dot = d[0];
         for k in 1..SLOTS {
