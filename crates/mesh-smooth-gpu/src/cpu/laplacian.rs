@@ -416,7 +416,9 @@ const BLOCK: usize = 32;
 
 /// Writes row `r` of the next pass into `out` and its weight sums into `sums`, from the
 /// inverse distances of rows `r − half ..= r` in the ring; the sums of [`BLOCK`] points
-/// at a time stay in registers while every term is added to them.
+/// at a time stay in registers while every term is added to them and while the points
+/// move ([`finished`]: moving them in a second pass over the written row, as
+/// [`direct_row`] does, took the filter 6 % longer at 424 × 240).
 #[inline(always)]
 fn shared_row<const TERMS: usize>(
     stencil: &Stencil,
@@ -458,12 +460,17 @@ fn shared_row<const TERMS: usize>(
         len,
         &mut planes,
         #[inline(always)]
-        |at| term_sums::<BLOCK, TERMS>(&terms, at),
+        |at| {
+            finished(
+                grid.lambda,
+                term_sums::<BLOCK, TERMS>(&terms, at),
+                own + at,
+                src,
+            )
+        },
         #[inline(always)]
-        |i| term_sums::<1, TERMS>(&terms, i),
+        |i| finished(grid.lambda, term_sums::<1, TERMS>(&terms, i), own + i, src),
     );
-    let [ax, ay, az, aw] = planes;
-    finish(grid, own, src, [ax, ay, az], aw);
 }
 
 /// The sums of the `N` points from `at` on of the terms, each term given as a
@@ -522,8 +529,7 @@ fn copy_borders(
 }
 
 /// Moves the interior points from `own` on by λ towards their neighbours' weighted mean
-/// `a / w`; an invalid point, or one without a weighted neighbour, stays and gets a zero
-/// weight sum.
+/// `a / w` (see [`moved`]).
 #[inline(always)]
 fn finish(
     grid: &Grid,
@@ -532,23 +538,53 @@ fn finish(
     [ax, ay, az]: [&mut [f32]; 3],
     aw: &mut [f32],
 ) {
-    let (lambda, len) = (grid.lambda, aw.len());
+    let len = aw.len();
     let vx = &src.x[own..own + len];
     let vy = &src.y[own..own + len];
     let vz = &src.z[own..own + len];
     let vm = &src.m[own..own + len];
     let (ax, ay, az) = (&mut ax[..len], &mut ay[..len], &mut az[..len]);
     for i in 0..len {
-        if vm[i] > 0.0 && aw[i] > 0.0 {
-            ax[i] = vx[i] + lambda * (ax[i] / aw[i] - vx[i]);
-            ay[i] = vy[i] + lambda * (ay[i] / aw[i] - vy[i]);
-            az[i] = vz[i] + lambda * (az[i] / aw[i] - vz[i]);
-        } else {
-            ax[i] = vx[i];
-            ay[i] = vy[i];
-            az[i] = vz[i];
-            aw[i] = 0.0;
-        }
+        let point = [vx[i], vy[i], vz[i]];
+        let sums = [ax[i], ay[i], az[i], aw[i]];
+        [ax[i], ay[i], az[i], aw[i]] = moved(grid.lambda, sums, point, vm[i] > 0.0);
+    }
+}
+
+/// [`finish`] for the sums of one block of `N` points from `at` on (as [`term_sums`]
+/// gives them), while they are still in registers.
+#[inline(always)]
+fn finished<const N: usize>(
+    lambda: f32,
+    mut sums: [[f32; N]; 4],
+    at: usize,
+    src: &Source<'_>,
+) -> [[f32; N]; 4] {
+    let (vx, vy, vz) = (span(src.x, at, N), span(src.y, at, N), span(src.z, at, N));
+    let vm = span(src.m, at, N);
+    let [ax, ay, az, aw] = &mut sums;
+    for i in 0..N {
+        let point = [vx[i], vy[i], vz[i]];
+        let block = [ax[i], ay[i], az[i], aw[i]];
+        [ax[i], ay[i], az[i], aw[i]] = moved(lambda, block, point, vm[i] > 0.0);
+    }
+    sums
+}
+
+/// A point moved by λ towards its neighbours' weighted mean `a / w`, from its sums
+/// `[a_x, a_y, a_z, w]`, and its weight sum; an invalid point (not `valid`), or one
+/// without a weighted neighbour, stays and gets a zero weight sum.
+#[inline(always)]
+fn moved(lambda: f32, [ax, ay, az, aw]: [f32; 4], [vx, vy, vz]: [f32; 3], valid: bool) -> [f32; 4] {
+    if valid && aw > 0.0 {
+        [
+            vx + lambda * (ax / aw - vx),
+            vy + lambda * (ay / aw - vy),
+            vz + lambda * (az / aw - vz),
+            aw,
+        ]
+    } else {
+        [vx, vy, vz, 0.0]
     }
 }
 
