@@ -30,9 +30,9 @@ const EXP2_POLYNOMIAL: [f32; 6] = [
 ];
 
 /// `2^t` for `t ≤ 0`, the bilateral weight `exp(−e)` with its exponent `t = −e · log2 e`
-/// (the filter folds `log2 e` into its inverse variances): relative error below 3e-7 for
-/// `t ≥ −14`, a few ulp of `t` beyond; exactly 0 below `−EXP_NEG_CUTOFF · log2 e` (`e`
-/// beyond [`EXP_NEG_CUTOFF`]) and for NaN.
+/// (the filter folds `log2 e` into its inverse variances): relative error below 3e-7
+/// down to `−EXP_NEG_CUTOFF · log2 e` (`e` up to [`EXP_NEG_CUTOFF`]), exactly 0 below it
+/// and for NaN.
 ///
 /// `2^t = 2^i · 2^f` with `i = round(t)`, `|f| ≤ 1/2`: the second factor by
 /// [`EXP2_POLYNOMIAL`] in fused multiply-adds, the first built from its exponent bits.

@@ -565,15 +565,15 @@ fn finished<const N: usize>(
     let [ax, ay, az, aw] = &mut sums;
     for i in 0..N {
         let point = [vx[i], vy[i], vz[i]];
-        let block = [ax[i], ay[i], az[i], aw[i]];
-        [ax[i], ay[i], az[i], aw[i]] = moved(lambda, block, point, vm[i] > 0.0);
+        let point_sums = [ax[i], ay[i], az[i], aw[i]];
+        [ax[i], ay[i], az[i], aw[i]] = moved(lambda, point_sums, point, vm[i] > 0.0);
     }
     sums
 }
 
-/// A point moved by λ towards its neighbours' weighted mean `a / w`, from its sums
-/// `[a_x, a_y, a_z, w]`, and its weight sum; an invalid point (not `valid`), or one
-/// without a weighted neighbour, stays and gets a zero weight sum.
+/// The point `v` moved by λ towards its neighbours' weighted mean `a / w`, given its
+/// sums `[a_x, a_y, a_z, w]`, and then its weight sum; an invalid point (not `valid`), or
+/// one without a weighted neighbour, stays, with a zero weight sum.
 #[inline(always)]
 fn moved(lambda: f32, [ax, ay, az, aw]: [f32; 4], [vx, vy, vz]: [f32; 3], valid: bool) -> [f32; 4] {
     if valid && aw > 0.0 {
