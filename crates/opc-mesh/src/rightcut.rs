@@ -222,6 +222,8 @@ impl Pass2<'_> {
                     (local, v) = (end, v + run);
                 }
             }
+            // A run stops before the row's last cell (a dense cell needs the one to its
+            // right), so cell `v` is still in the row.
             let (class, map) = (classes[v], &mut map[v]);
             let class_above = above.map_or(0, |a| a[v]);
             let class_below = below.map_or(0, |b| b[v]);
