@@ -223,12 +223,20 @@ impl SlotNormals {
         num_triangles: usize,
         buffer: Vec<[f64; 3]>,
     ) -> Option<Vec<[f64; 3]>> {
-        in_slot_order(triangle_map, num_triangles, buffer, |chunk, map, gather| {
+        let gather = |(): &mut (), chunk: usize, map: &[u32], gather: &mut Gather<'_>| {
             let normals = &self.normals[chunk * SLOT_CHUNK..][..map.len()];
             for (&n, &t) in normals.iter().zip(map) {
                 gather.slot(to_unit_f64(n), !n[0].is_nan(), t);
             }
-        })
+        };
+        in_slot_order(
+            triangle_map,
+            num_triangles,
+            buffer,
+            SLOT_CHUNK,
+            || (),
+            gather,
+        )
     }
 }
 
@@ -238,18 +246,21 @@ impl SlotNormals {
 /// other, or maps a missing slot (the serial pass of [`SlotNormals::for_triangle_map`]
 /// then checks it and names what is wrong).
 ///
-/// Two parallel passes over chunks of [`SLOT_CHUNK`] slots: one counts each chunk's mapped
-/// slots; in the other, `gather(chunk, map, gather)` hands [`Gather::slot`] every slot of
-/// chunk `chunk` (`map` its part of the map) in order, which writes the output. The
+/// Two parallel passes over chunks of `chunk_slots` slots: one counts each chunk's mapped
+/// slots; in the other, `gather(state, chunk, map, gather)` hands [`Gather::slot`] every
+/// slot of chunk `chunk` (`map` its part of the map) in order, which writes the output.
+/// A task's chunks come to it in order and share its `state`, made by `init`. The
 /// output reuses `buffer`'s allocation (its contents are dropped).
-pub(crate) fn in_slot_order(
+pub(crate) fn in_slot_order<S>(
     triangle_map: &[u32],
     num_triangles: usize,
     buffer: Vec<[f64; 3]>,
-    gather: impl Fn(usize, &[u32], &mut Gather<'_>) + Sync,
+    chunk_slots: usize,
+    init: impl Fn() -> S + Sync + Send,
+    gather: impl Fn(&mut S, usize, &[u32], &mut Gather<'_>) + Sync + Send,
 ) -> Option<Vec<[f64; 3]>> {
     let counts: Vec<usize> = triangle_map
-        .par_chunks(SLOT_CHUNK)
+        .par_chunks(chunk_slots)
         .map(|map| map.iter().filter(|&&t| t != NO_TRIANGLE).count())
         .collect();
     if counts.iter().sum::<usize>() != num_triangles {
@@ -274,10 +285,10 @@ pub(crate) fn in_slot_order(
     }
     let valid = parts
         .into_par_iter()
-        .zip(triangle_map.par_chunks(SLOT_CHUNK))
+        .zip(triangle_map.par_chunks(chunk_slots))
         .enumerate()
-        .map(|(chunk, (mut part, map))| {
-            gather(chunk, map, &mut part);
+        .map_init(init, |state, (chunk, (mut part, map))| {
+            gather(state, chunk, map, &mut part);
             part.valid
         })
         .all(|valid| valid);
@@ -288,8 +299,8 @@ pub(crate) fn in_slot_order(
     // SAFETY: the parts cover the first `num_triangles` elements of the spare capacity,
     // and every part is valid: each of its mapped slots held the triangle `first + next`
     // as `next` ran from 0 to the part's count (the number of mapped slots its chunk of
-    // the map has), and each such slot wrote element `next` (`Gather::slot`). So every
-    // element is initialised.
+    // the map has), and each such slot wrote element `next` (`Gather::slot`, or
+    // `Gather::dense_cells` for a run of them). So every element is initialised.
     unsafe {
         out.set_len(num_triangles);
     }
@@ -324,6 +335,42 @@ impl Gather<'_> {
             slot.write(unit);
         }
         self.next += usize::from(mapped);
+    }
+
+    /// [`Self::slot`] for the slots of a run of cells (two each, in slot order) when
+    /// their triangles are all `present` and `map` gives them the next triangles in turn,
+    /// as in the dense parts of a depth frame: `cell(i)` gives the unit normals of the
+    /// run's cell `i`, which are written without the bookkeeping per slot. `false`, and
+    /// nothing written, otherwise (the caller then hands the slots over one by one).
+    #[inline(always)]
+    pub(crate) fn dense_cells(
+        &mut self,
+        map: &[u32],
+        present: bool,
+        cell: impl Fn(usize) -> [[f64; 3]; TRIANGLES_PER_CELL],
+    ) -> bool {
+        let next = self.first + self.next;
+        // Never a missing slot: `NO_TRIANGLE` is no triangle's index.
+        let in_turn = map
+            .iter()
+            .enumerate()
+            .fold(true, |ok, (i, &t)| ok & (t as usize == next + i));
+        let end = self.next + map.len();
+        let Some(part) = self
+            .part
+            .get_mut(self.next..end)
+            .filter(|_| present & in_turn)
+        else {
+            return false;
+        };
+        for (i, pair) in part.chunks_exact_mut(TRIANGLES_PER_CELL).enumerate() {
+            let units = cell(i);
+            for (slot, unit) in pair.iter_mut().zip(units) {
+                slot.write(unit);
+            }
+        }
+        self.next = end;
+        true
     }
 }
 

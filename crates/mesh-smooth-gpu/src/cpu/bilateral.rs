@@ -1,15 +1,15 @@
 //! The bilateral normal filter on the implicit right-cut mesh, `f32` planes per triangle
 //! type, a band of cell rows per task.
 
-use opc_mesh::OrganizedPointCloud;
+use opc_mesh::{OpcMesh, OrganizedPointCloud};
 use rayon::prelude::*;
 
 use super::{
     Band, Offsets, PlaneSet, Planes, Ring, exp2_nonpositive, fma, min_rows_per_task, row_in_blocks,
     span, term_at,
 };
-use crate::BilateralOptions;
-use crate::grid::{SLOT_CHUNK, TRIANGLES_PER_CELL, UNIT_BLOCK, in_slot_order, widen_units};
+use crate::grid::{Gather, SLOT_CHUNK, TRIANGLES_PER_CELL, UNIT_BLOCK, in_slot_order, widen_units};
+use crate::{BilateralOptions, SlotNormals, SmoothError};
 
 /// x, y, z planes, indexed by cell `r · (cols − 1) + c`.
 type Xyz<'a> = [&'a [f32]; 3];
@@ -97,26 +97,23 @@ impl Filtered<'_> {
         if triangle_map.len() != slots {
             return None;
         }
-        in_slot_order(triangle_map, num_triangles, buffer, |chunk, map, gather| {
+        let units = || [[[0.0; UNIT_BLOCK]; 3]; 2];
+        let gather = |units: &mut _, chunk: usize, map: &[u32], gather: &mut Gather<'_>| {
             // Chunks hold whole cells (an even number of slots).
             let start = chunk * SLOT_CHUNK / TRIANGLES_PER_CELL;
             let cells = start..start + map.len() / TRIANGLES_PER_CELL;
-            // Block by block: the unit `f64` normals of both types, then the gather.
-            let mut units = [[[0.0; UNIT_BLOCK]; 3]; 2];
-            for (b, map) in map.chunks(TRIANGLES_PER_CELL * UNIT_BLOCK).enumerate() {
-                let first = cells.start + b * UNIT_BLOCK;
-                let block = first..first + map.len() / TRIANGLES_PER_CELL;
-                for (k, units) in units.iter_mut().enumerate() {
-                    widen_units(self.normals[k].map(|p| &p[block.clone()]), units);
-                }
-                let [m0, m1] = self.masks.map(|m| &m[block.clone()]);
-                let [[x0, y0, z0], [x1, y1, z1]] = &units;
-                for (c, pair) in map.chunks_exact(TRIANGLES_PER_CELL).enumerate() {
-                    gather.slot([x0[c], y0[c], z0[c]], m0[c] > 0.0, pair[0]);
-                    gather.slot([x1[c], y1[c], z1[c]], m1[c] > 0.0, pair[1]);
-                }
-            }
-        })
+            let normals = self.normals.map(|p| p.map(|q| &q[cells.clone()]));
+            let masks = self.masks.map(|m| &m[cells.clone()]);
+            gather_cells(normals, masks, map, units, gather);
+        };
+        in_slot_order(
+            triangle_map,
+            num_triangles,
+            buffer,
+            SLOT_CHUNK,
+            units,
+            gather,
+        )
     }
 }
 
@@ -134,6 +131,22 @@ pub(crate) fn bilateral<'a>(
     bilateral_of_planes(passes, points, rows, cols, options, parallel)
 }
 
+/// [`bilateral`] with the filtered normals set as `opc`'s triangle normals (`opc` built
+/// from the same cloud; see [`bilateral_of_planes_into_mesh`]).
+pub(crate) fn bilateral_into_mesh(
+    work: &mut BilateralWork,
+    cloud: &OrganizedPointCloud,
+    options: &BilateralOptions,
+    parallel: bool,
+    opc: &mut OpcMesh,
+) -> Result<(), SmoothError> {
+    let (rows, cols) = (cloud.rows(), cloud.cols());
+    let BilateralWork { planes, passes } = work;
+    planes.fill(cloud.points(), cols, parallel);
+    let points = [&planes.x, &planes.y, &planes.z, &planes.m].map(Vec::as_slice);
+    bilateral_of_planes_into_mesh(passes, points, rows, cols, options, parallel, opc)
+}
+
 /// [`bilateral`] of a `rows × cols` cloud given as its `f32` point planes x, y, z and
 /// mask (see [`Planes`]).
 pub(crate) fn bilateral_of_planes<'a>(
@@ -144,83 +157,306 @@ pub(crate) fn bilateral_of_planes<'a>(
     options: &BilateralOptions,
     parallel: bool,
 ) -> Filtered<'a> {
-    let PassWork { types, odd, even } = work;
-    let cells = Cells {
-        rows: rows - 1,
-        cols: cols - 1,
-        half: (options.kernel / 2) as usize,
-    };
-    let num_cells = cells.rows * cells.cols;
-    types.resize(num_cells);
-    compute_types(points, cols, parallel, types.planes_mut());
-    let type_planes = types.planes();
-    let type_view = |k: usize| {
-        let p = &type_planes[TYPE_PLANES * k..TYPE_PLANES * (k + 1)];
-        let normal = [p[0], p[1], p[2]];
-        let view = TypeView {
-            centroid: [p[3], p[4], p[5]],
-            mask: p[6],
-        };
-        (normal, view)
-    };
-    let [(normal0, view0), (normal1, view1)] = [type_view(0), type_view(1)];
-    let (unfiltered, views) = ([normal0, normal1], [view0, view1]);
-    let fits = cells.rows > 2 * cells.half && cells.cols > 2 * cells.half;
-    let iterations = if fits { options.iterations } else { 0 };
-    if iterations > 0 {
-        let (inv_var_length, inv_var_angle) = options.inverse_variances();
-        let filter = Filter::new(cells, inv_var_length, inv_var_angle);
-        odd.resize(num_cells);
-        even.resize(num_cells);
-        let band = if parallel { BAND_ROWS } else { cells.rows } * cells.cols;
-        for pass in 0..iterations {
-            let (previous, next) = match pass {
-                0 => (unfiltered, odd.planes_mut()),
-                _ if pass % 2 == 1 => (by_type(odd.planes()), even.planes_mut()),
-                _ => (by_type(even.planes()), odd.planes_mut()),
-            };
-            let [n0x, n0y, n0z, n1x, n1y, n1z] = next;
-            (
-                n0x.par_chunks_mut(band),
-                n0y.par_chunks_mut(band),
-                n0z.par_chunks_mut(band),
-                n1x.par_chunks_mut(band),
-                n1y.par_chunks_mut(band),
-                n1z.par_chunks_mut(band),
-            )
-                .into_par_iter()
-                .enumerate()
-                .with_min_len(min_rows_per_task(parallel))
-                .for_each_init(
-                    || filter.ring(),
-                    |ring, (b, (a, b2, c, d, e, f))| {
-                        let first = b * band / cells.cols;
-                        let part =
-                            ring.band(first, first + a.len() / cells.cols, filter.offsets.above());
-                        rows_of_band(
-                            &filter,
-                            part,
-                            &previous,
-                            &views,
-                            &mut ring.values,
-                            [[a, b2, c], [d, e, f]],
-                        );
-                    },
-                );
+    let mut passes = Passes::new(work, points, rows, cols, options, parallel);
+    for pass in 0..passes.iterations {
+        passes.run(pass);
+    }
+    passes.into_filtered()
+}
+
+/// [`bilateral_of_planes`] with the filtered normals set as the triangle normals of
+/// `opc`, a mesh of the same cloud. When its map is in slot order, as `opc_mesh` builds
+/// it (see [`crate::grid::in_slot_order`]), the last pass hands each row it writes
+/// straight to the gather into mesh order, while the row is in cache, instead of writing
+/// planes for a separate pass to read.
+pub(crate) fn bilateral_of_planes_into_mesh(
+    work: &mut PassWork,
+    points: [&[f32]; 4],
+    rows: usize,
+    cols: usize,
+    options: &BilateralOptions,
+    parallel: bool,
+    opc: &mut OpcMesh,
+) -> Result<(), SmoothError> {
+    let mut passes = Passes::new(work, points, rows, cols, options, parallel);
+    if let Some(last) = passes.iterations.checked_sub(1) {
+        for pass in 0..last {
+            passes.run(pass);
+        }
+        let spare = crate::grid::spare_normals(opc);
+        let (map, triangles) = (&opc.triangle_map, opc.mesh.num_triangles());
+        if let Some(normals) = passes.last_in_slot_order(last, map.as_slice(), triangles, spare) {
+            return crate::grid::set_mesh_normals(opc, normals);
+        }
+        passes.run(last);
+    }
+    into_mesh(&passes.into_filtered(), rows, cols, opc)
+}
+
+/// Sets `filtered` as the triangle normals of `opc`, a mesh of the `rows × cols` cloud
+/// they were filtered on.
+pub(crate) fn into_mesh(
+    filtered: &Filtered<'_>,
+    rows: usize,
+    cols: usize,
+    opc: &mut OpcMesh,
+) -> Result<(), SmoothError> {
+    let spare = crate::grid::spare_normals(opc);
+    let map = opc.triangle_map.as_slice();
+    match filtered.in_slot_order(map, opc.mesh.num_triangles(), spare) {
+        Some(normals) => crate::grid::set_mesh_normals(opc, normals),
+        None => {
+            let mut slots = SlotNormals::default();
+            slots.refill(rows, cols, |n| filtered.write_slots(n));
+            slots.apply_to_opc_mesh(opc)
         }
     }
-    let filtered = match iterations {
-        0 => unfiltered,
-        n if n % 2 == 1 => by_type(odd.planes()),
-        _ => by_type(even.planes()),
-    };
-    Filtered {
-        normals: filtered,
-        masks: [views[0].mask, views[1].mask],
-        cols: cells.cols,
-        parallel,
+}
+
+/// The passes of one run of the filter: the triangle types computed, and the planes
+/// the passes write.
+struct Passes<'a> {
+    filter: Filter,
+    /// Passes to run: none where the kernel does not fit in the grid.
+    iterations: u32,
+    unfiltered: [Xyz<'a>; 2],
+    views: [TypeView<'a>; 2],
+    odd: &'a mut PlaneSet<6, { 2 * TYPE_PLANES }>,
+    even: &'a mut PlaneSet<6, { 2 * TYPE_PLANES + 6 }>,
+    /// Cells per band (see [`BAND_ROWS`]).
+    band: usize,
+    parallel: bool,
+}
+
+impl<'a> Passes<'a> {
+    /// Computes the triangle types of a `rows × cols` cloud given as its point planes
+    /// (see [`bilateral_of_planes`]) into `work`, whose pass planes it sizes.
+    fn new(
+        work: &'a mut PassWork,
+        points: [&[f32]; 4],
+        rows: usize,
+        cols: usize,
+        options: &BilateralOptions,
+        parallel: bool,
+    ) -> Self {
+        let PassWork { types, odd, even } = work;
+        let cells = Cells {
+            rows: rows - 1,
+            cols: cols - 1,
+            half: (options.kernel / 2) as usize,
+        };
+        let num_cells = cells.rows * cells.cols;
+        types.resize(num_cells);
+        compute_types(points, cols, parallel, types.planes_mut());
+        let type_planes = types.planes();
+        let type_view = |k: usize| {
+            let p = &type_planes[TYPE_PLANES * k..TYPE_PLANES * (k + 1)];
+            let normal = [p[0], p[1], p[2]];
+            let view = TypeView {
+                centroid: [p[3], p[4], p[5]],
+                mask: p[6],
+            };
+            (normal, view)
+        };
+        let [(normal0, view0), (normal1, view1)] = [type_view(0), type_view(1)];
+        let fits = cells.rows > 2 * cells.half && cells.cols > 2 * cells.half;
+        let iterations = if fits { options.iterations } else { 0 };
+        if iterations > 0 {
+            odd.resize(num_cells);
+            even.resize(num_cells);
+        }
+        let (inv_var_length, inv_var_angle) = options.inverse_variances();
+        Self {
+            filter: Filter::new(cells, inv_var_length, inv_var_angle),
+            iterations,
+            unfiltered: [normal0, normal1],
+            views: [view0, view1],
+            odd,
+            even,
+            band: if parallel { BAND_ROWS } else { cells.rows } * cells.cols,
+            parallel,
+        }
+    }
+
+    /// The normals `pass` filters: the unfiltered ones for the first, else those the pass
+    /// before wrote ([`Self::into_filtered`] gives those of the last pass).
+    fn input(&self, pass: u32) -> [Xyz<'_>; 2] {
+        match pass {
+            0 => self.unfiltered,
+            _ if pass % 2 == 1 => by_type(self.odd.planes()),
+            _ => by_type(self.even.planes()),
+        }
+    }
+
+    /// Runs `pass` (counted from 0, in order) into its planes, a band of rows per task.
+    fn run(&mut self, pass: u32) {
+        let Self {
+            filter,
+            unfiltered,
+            views,
+            odd,
+            even,
+            band,
+            parallel,
+            ..
+        } = self;
+        let (band, parallel) = (*band, *parallel);
+        let (previous, next) = match pass {
+            0 => (*unfiltered, odd.planes_mut()),
+            _ if pass % 2 == 1 => (by_type(odd.planes()), even.planes_mut()),
+            _ => (by_type(even.planes()), odd.planes_mut()),
+        };
+        let cols = filter.cells.cols;
+        let [n0x, n0y, n0z, n1x, n1y, n1z] = next;
+        (
+            n0x.par_chunks_mut(band),
+            n0y.par_chunks_mut(band),
+            n0z.par_chunks_mut(band),
+            n1x.par_chunks_mut(band),
+            n1y.par_chunks_mut(band),
+            n1z.par_chunks_mut(band),
+        )
+            .into_par_iter()
+            .enumerate()
+            .with_min_len(min_rows_per_task(parallel))
+            .for_each_init(
+                || filter.ring(),
+                |ring, (b, (a, b2, c, d, e, f))| {
+                    let first = b * band / cols;
+                    let part = ring.band(first, first + a.len() / cols, filter.offsets.above());
+                    rows_of_band(
+                        filter,
+                        part,
+                        &previous,
+                        views,
+                        &mut ring.values,
+                        [[a, b2, c], [d, e, f]],
+                    );
+                },
+            );
+    }
+
+    /// Runs the last pass, `pass`, handing each row, as it is written into a row of
+    /// scratch, to the gather of [`Filtered::in_slot_order`]: that output without the
+    /// planes. `None` (and nothing written) where that gives `None`.
+    fn last_in_slot_order(
+        &self,
+        pass: u32,
+        triangle_map: &[u32],
+        num_triangles: usize,
+        buffer: Vec<[f64; 3]>,
+    ) -> Option<Vec<[f64; 3]>> {
+        let cols = self.filter.cells.cols;
+        if triangle_map.len() != TRIANGLES_PER_CELL * self.filter.cells.rows * cols {
+            return None;
+        }
+        let previous = self.input(pass);
+        let init = || {
+            let row = || [(); 3].map(|()| vec![0.0f32; cols]);
+            (
+                self.filter.ring(),
+                [row(), row()],
+                [[[0.0; UNIT_BLOCK]; 3]; 2],
+            )
+        };
+        let chunk = TRIANGLES_PER_CELL * self.band;
+        in_slot_order(
+            triangle_map,
+            num_triangles,
+            buffer,
+            chunk,
+            init,
+            |(ring, row, units), b, map, gather| {
+                let first = b * self.band / cols;
+                for (i, map) in map.chunks(TRIANGLES_PER_CELL * cols).enumerate() {
+                    let r = first + i;
+                    let part = ring.band(r, r + 1, self.filter.offsets.above());
+                    let out = row.each_mut().map(|p| p.each_mut().map(Vec::as_mut_slice));
+                    rows_of_band(
+                        &self.filter,
+                        part,
+                        &previous,
+                        &self.views,
+                        &mut ring.values,
+                        out,
+                    );
+                    let cells = r * cols..(r + 1) * cols;
+                    let normals = row.each_ref().map(|p| p.each_ref().map(Vec::as_slice));
+                    let masks = self.views.map(|v| &v.mask[cells.clone()]);
+                    gather_cells(normals, masks, map, units, gather);
+                }
+            },
+        )
+    }
+
+    /// The filtered normals after all passes have run.
+    fn into_filtered(self) -> Filtered<'a> {
+        let Self {
+            filter,
+            iterations,
+            unfiltered,
+            views,
+            odd,
+            even,
+            parallel,
+            ..
+        } = self;
+        let normals = match iterations {
+            0 => unfiltered,
+            n if n % 2 == 1 => by_type(odd.planes()),
+            _ => by_type(even.planes()),
+        };
+        Filtered {
+            normals,
+            masks: [views[0].mask, views[1].mask],
+            cols: filter.cells.cols,
+            parallel,
+        }
     }
 }
+
+/// Hands [`Gather::slot`] both triangles of each of a run of cells, in slot order: their
+/// unit `f64` normals, widened a block at a time into `units` ([`widen_units`]) from the
+/// cells' normal planes `normals`, whether they are present (`masks`) and their map
+/// entries (`map`, two per cell).
+#[inline(always)]
+fn gather_cells(
+    normals: [Xyz<'_>; 2],
+    masks: [&[f32]; 2],
+    map: &[u32],
+    units: &mut [[[f64; UNIT_BLOCK]; 3]; 2],
+    gather: &mut Gather<'_>,
+) {
+    for (b, map) in map.chunks(TRIANGLES_PER_CELL * UNIT_BLOCK).enumerate() {
+        let block = b * UNIT_BLOCK..b * UNIT_BLOCK + map.len() / TRIANGLES_PER_CELL;
+        for (k, units) in units.iter_mut().enumerate() {
+            widen_units(normals[k].map(|p| &p[block.clone()]), units);
+        }
+        let [m0, m1] = masks.map(|m| &m[block.clone()]);
+        let [[x0, y0, z0], [x1, y1, z1]] = &*units;
+        for (run, map) in map.chunks(TRIANGLES_PER_CELL * DENSE_RUN).enumerate() {
+            let cells = run * DENSE_RUN..run * DENSE_RUN + map.len() / TRIANGLES_PER_CELL;
+            let present = cells
+                .clone()
+                .fold(true, |all, c| all & (m0[c] > 0.0) & (m1[c] > 0.0));
+            let cell = |i: usize| {
+                let c = cells.start + i;
+                [[x0[c], y0[c], z0[c]], [x1[c], y1[c], z1[c]]]
+            };
+            if gather.dense_cells(map, present, cell) {
+                continue;
+            }
+            for (c, pair) in cells.zip(map.chunks_exact(TRIANGLES_PER_CELL)) {
+                gather.slot([x0[c], y0[c], z0[c]], m0[c] > 0.0, pair[0]);
+                gather.slot([x1[c], y1[c], z1[c]], m1[c] > 0.0, pair[1]);
+            }
+        }
+    }
+}
+
+/// Cells per run that [`gather_cells`] writes at once where it can
+/// ([`Gather::dense_cells`]).
+const DENSE_RUN: usize = 16;
 
 /// Normals, centroids and masks of the triangles of both types of every cell of a cloud
 /// with `cols` columns whose points are the planes `points`, into `[nx, ny, nz, cx, cy,

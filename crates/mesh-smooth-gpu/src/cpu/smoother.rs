@@ -4,7 +4,9 @@ use std::borrow::Cow;
 
 use opc_mesh::{OpcMesh, OrganizedPointCloud};
 
-use super::bilateral::{BilateralWork, Filtered, bilateral, bilateral_of_planes};
+use super::bilateral::{
+    BilateralWork, bilateral, bilateral_into_mesh, bilateral_of_planes_into_mesh,
+};
 use super::laplacian::{LaplacianWork, Passes, laplacian_copy, laplacian_in_place};
 use crate::{BilateralOptions, LaplacianOptions, SlotNormals, SmoothError, Smoother};
 
@@ -209,8 +211,7 @@ impl CpuSmoother {
     ) -> Result<(), SmoothError> {
         options.validate()?;
         crate::grid::check_shape(opc, cloud.rows(), cloud.cols())?;
-        let filtered = bilateral(&mut self.bilateral, cloud, options, self.parallel);
-        into_mesh(&filtered, cloud.rows(), cloud.cols(), opc)
+        bilateral_into_mesh(&mut self.bilateral, cloud, options, self.parallel, opc)
     }
 
     /// The Laplacian filter of `cloud` (in place when it is owned, into a copy when it is
@@ -309,26 +310,6 @@ impl CpuSmoother {
             smoother: self,
             cloud,
         })
-    }
-}
-
-/// Writes the filtered normals of a `rows × cols` cloud into a mesh of that cloud (see
-/// [`CpuSmoother::bilateral_into_mesh`]).
-fn into_mesh(
-    filtered: &Filtered<'_>,
-    rows: usize,
-    cols: usize,
-    opc: &mut OpcMesh,
-) -> Result<(), SmoothError> {
-    let spare = crate::grid::spare_normals(opc);
-    let map = opc.triangle_map.as_slice();
-    match filtered.in_slot_order(map, opc.mesh.num_triangles(), spare) {
-        Some(normals) => crate::grid::set_mesh_normals(opc, normals),
-        None => {
-            let mut slots = SlotNormals::default();
-            slots.refill(rows, cols, |n| filtered.write_slots(n));
-            slots.apply_to_opc_mesh(opc)
-        }
     }
 }
 
@@ -461,8 +442,15 @@ fn planes_bilateral(
         bilateral: work,
     } = smoother;
     let points = laplacian.planes_at(second);
-    let filtered = bilateral_of_planes(&mut work.passes, points, rows, cols, options, *parallel);
-    into_mesh(&filtered, rows, cols, opc)
+    bilateral_of_planes_into_mesh(
+        &mut work.passes,
+        points,
+        rows,
+        cols,
+        options,
+        *parallel,
+        opc,
+    )
 }
 
 impl Default for CpuSmoother {
