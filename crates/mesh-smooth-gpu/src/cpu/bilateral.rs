@@ -87,7 +87,7 @@ impl Filtered<'_> {
     /// The unit `f64` normals of the triangles of a mesh built from the same cloud, given
     /// its slot → triangle map, when the map is in slot order as `opc_mesh` builds it
     /// (see [`crate::grid::in_slot_order`]); `None` otherwise.
-    pub(crate) fn in_slot_order(
+    fn in_slot_order(
         &self,
         triangle_map: &[u32],
         num_triangles: usize,
@@ -124,11 +124,27 @@ pub(crate) fn bilateral<'a>(
     options: &BilateralOptions,
     parallel: bool,
 ) -> Filtered<'a> {
-    let (rows, cols) = (cloud.rows(), cloud.cols());
+    let (passes, points) = fill_points(work, cloud, parallel);
+    bilateral_of_planes(
+        passes,
+        points,
+        cloud.rows(),
+        cloud.cols(),
+        options,
+        parallel,
+    )
+}
+
+/// `work`'s point planes filled from `cloud` (see [`Planes`]), and its pass buffers.
+fn fill_points<'w>(
+    work: &'w mut BilateralWork,
+    cloud: &OrganizedPointCloud,
+    parallel: bool,
+) -> (&'w mut PassWork, [&'w [f32]; 4]) {
     let BilateralWork { planes, passes } = work;
-    planes.fill(cloud.points(), cols, parallel);
+    planes.fill(cloud.points(), cloud.cols(), parallel);
     let points = [&planes.x, &planes.y, &planes.z, &planes.m].map(Vec::as_slice);
-    bilateral_of_planes(passes, points, rows, cols, options, parallel)
+    (passes, points)
 }
 
 /// [`bilateral`] with the filtered normals set as `opc`'s triangle normals (`opc` built
@@ -141,15 +157,13 @@ pub(crate) fn bilateral_into_mesh(
     opc: &mut OpcMesh,
 ) -> Result<(), SmoothError> {
     let (rows, cols) = (cloud.rows(), cloud.cols());
-    let BilateralWork { planes, passes } = work;
-    planes.fill(cloud.points(), cols, parallel);
-    let points = [&planes.x, &planes.y, &planes.z, &planes.m].map(Vec::as_slice);
+    let (passes, points) = fill_points(work, cloud, parallel);
     bilateral_of_planes_into_mesh(passes, points, rows, cols, options, parallel, opc)
 }
 
 /// [`bilateral`] of a `rows × cols` cloud given as its `f32` point planes x, y, z and
 /// mask (see [`Planes`]).
-pub(crate) fn bilateral_of_planes<'a>(
+fn bilateral_of_planes<'a>(
     work: &'a mut PassWork,
     points: [&[f32]; 4],
     rows: usize,
@@ -195,7 +209,7 @@ pub(crate) fn bilateral_of_planes_into_mesh(
 
 /// Sets `filtered` as the triangle normals of `opc`, a mesh of the `rows × cols` cloud
 /// they were filtered on.
-pub(crate) fn into_mesh(
+fn into_mesh(
     filtered: &Filtered<'_>,
     rows: usize,
     cols: usize,
