@@ -198,8 +198,9 @@ proptest! {
 
     /// Per-pixel pass counts on 1–3 threads against their definition, pass by pass: each
     /// pass is one uniform pass of the serial filter over the whole cloud, after which the
-    /// pixels whose count it reached take back their points. Counts come per row (so that whole rows finish early) with
-    /// some pixels of their own; every pixel is compared, bit for bit.
+    /// pixels whose count it reached take back their points. Counts come per row (so that
+    /// whole rows finish early) with some pixels of their own; every pixel is compared,
+    /// bit for bit.
     #[test]
     fn per_pixel_passes_follow_their_definition(
         rows in 6usize..48, cols in 6usize..50, seed in any::<u64>(), holes in 0.0f64..0.3,

@@ -202,29 +202,32 @@ pub(crate) fn bilateral_of_planes_into_mesh(
         if let Some(normals) = passes.last_in_slot_order(last, map.as_slice(), triangles, spare) {
             return crate::grid::set_mesh_normals(opc, normals);
         }
+        // Not in slot order: the gather of the planes, whose checks read the same map and
+        // masks, would refuse it too.
         passes.run(last);
+        return through_slots(&passes.into_filtered(), rows, cols, opc);
     }
-    into_mesh(&passes.into_filtered(), rows, cols, opc)
+    let filtered = passes.into_filtered();
+    let spare = crate::grid::spare_normals(opc);
+    let map = opc.triangle_map.as_slice();
+    match filtered.in_slot_order(map, opc.mesh.num_triangles(), spare) {
+        Some(normals) => crate::grid::set_mesh_normals(opc, normals),
+        None => through_slots(&filtered, rows, cols, opc),
+    }
 }
 
-/// Sets `filtered` as the triangle normals of `opc`, a mesh of the `rows × cols` cloud
-/// they were filtered on.
-fn into_mesh(
+/// Sets `filtered` as the triangle normals of `opc` through per-slot normals and the
+/// map's checks ([`SlotNormals::apply_to_opc_mesh`]), which name what is wrong with a
+/// map that is not in slot order.
+fn through_slots(
     filtered: &Filtered<'_>,
     rows: usize,
     cols: usize,
     opc: &mut OpcMesh,
 ) -> Result<(), SmoothError> {
-    let spare = crate::grid::spare_normals(opc);
-    let map = opc.triangle_map.as_slice();
-    match filtered.in_slot_order(map, opc.mesh.num_triangles(), spare) {
-        Some(normals) => crate::grid::set_mesh_normals(opc, normals),
-        None => {
-            let mut slots = SlotNormals::default();
-            slots.refill(rows, cols, |n| filtered.write_slots(n));
-            slots.apply_to_opc_mesh(opc)
-        }
-    }
+    let mut slots = SlotNormals::default();
+    slots.refill(rows, cols, |n| filtered.write_slots(n));
+    slots.apply_to_opc_mesh(opc)
 }
 
 /// The passes of one run of the filter: the triangle types computed, and the planes
