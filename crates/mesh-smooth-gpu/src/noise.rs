@@ -12,6 +12,10 @@ use rayon::prelude::*;
 /// timing).
 const TARGET_SAMPLES: usize = 8192;
 
+/// Sampled rows per parallel task of the noise estimate (about 90 fits a row at the
+/// target sample count on a 4 : 3 image).
+const SAMPLE_ROWS_PER_TASK: usize = 8;
+
 /// Intercept of the trained model `iterations ≈ A + B · estimate_noise(cloud)`.
 ///
 /// Obtained by `cargo run --release -p polylidar --example train_laplacian`: for training
@@ -44,7 +48,7 @@ pub const MAX_AUTO_ITERATIONS: u32 = 16;
 /// Returns `None` when no 3 × 3 neighbourhood of the sample is fully valid (an all-NaN
 /// cloud, or one smaller than 3 × 3).
 ///
-/// Deterministic; single-threaded; one allocation (the sample buffer) per call.
+/// Deterministic; the neighbourhoods are fitted in parallel over the rayon pool.
 ///
 /// ```
 /// use mesh_smooth_gpu::estimate_noise;
@@ -211,8 +215,9 @@ pub fn passes_by_range(cloud: &OrganizedPointCloud, n: u32, exponent: f64) -> Op
             for (o, p) in out.iter_mut().zip(points) {
                 let r2 = squared(p);
                 if r2.is_finite() {
-                    // At most upper ≤ 255.
-                    *o = (1 + starts.partition_point(|&s| s <= r2)) as u8;
+                    // At most upper ≤ 255. Counted from the front: most points lie
+                    // before the first few starts, where a binary search mispredicts.
+                    *o = (1 + starts.iter().take_while(|&&s| s <= r2).count()) as u8;
                 }
             }
         });
@@ -242,7 +247,10 @@ impl Fit {
 }
 
 /// The median of `value` over the fitted sample neighbourhoods.
-fn median_of(cloud: &OrganizedPointCloud, value: impl Fn(Fit) -> Option<f64>) -> Option<f64> {
+fn median_of(
+    cloud: &OrganizedPointCloud,
+    value: impl Fn(Fit) -> Option<f64> + Sync,
+) -> Option<f64> {
     let (rows, cols) = (cloud.rows(), cloud.cols());
     if rows < 3 || cols < 3 {
         return None;
@@ -252,14 +260,18 @@ fn median_of(cloud: &OrganizedPointCloud, value: impl Fn(Fit) -> Option<f64>) ->
     let step = ((inner as f64 / TARGET_SAMPLES as f64).sqrt().ceil() as usize).max(1);
     let first = |n: usize| 1 + ((n - 2) % step) / 2;
     let points = cloud.points();
-    let mut values = Vec::with_capacity(inner.div_ceil(step * step) + rows + cols);
-    for r in (first(rows)..rows - 1).step_by(step) {
-        for c in (first(cols)..cols - 1).step_by(step) {
-            if let Some(v) = fit(points, cols, r, c).and_then(&value) {
-                values.push(v);
-            }
-        }
-    }
+    // The sampled rows in parallel: the median does not depend on the values' order.
+    let sampled: Vec<usize> = (first(rows)..rows - 1).step_by(step).collect();
+    let value = &value;
+    let mut values: Vec<f64> = sampled
+        .par_iter()
+        .with_min_len(SAMPLE_ROWS_PER_TASK)
+        .flat_map_iter(|&r| {
+            (first(cols)..cols - 1)
+                .step_by(step)
+                .filter_map(move |c| fit(points, cols, r, c).and_then(value))
+        })
+        .collect();
     if values.is_empty() {
         return None;
     }
@@ -287,6 +299,44 @@ fn fit(points: &[[f64; 3]], cols: usize, r: usize, c: usize) -> Option<Fit> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    use rand::{RngExt, SeedableRng};
+
+    /// A 60 × 80 tilted plane with uniform noise of ±1 cm and a few holes.
+    fn noisy_cloud() -> OrganizedPointCloud {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
+        let points = (0..60 * 80)
+            .map(|i| {
+                let (r, c) = ((i / 80) as f64 * 0.02, (i % 80) as f64 * 0.02);
+                if rng.random_bool(0.03) {
+                    [f64::NAN; 3]
+                } else {
+                    [c, r, 2.0 + 0.4 * r + rng.random_range(-0.01..0.01)]
+                }
+            })
+            .collect();
+        OrganizedPointCloud::new(60, 80, points).unwrap()
+    }
+
+    #[test]
+    fn estimate_is_the_median_over_every_neighbourhood_on_any_thread_count() {
+        let cloud = noisy_cloud();
+        // Below the target sample count every inner pixel is sampled.
+        let mut all: Vec<f64> = (1..59)
+            .flat_map(|r| (1..79).map(move |c| (r, c)))
+            .filter_map(|(r, c)| fit(cloud.points(), 80, r, c).and_then(Fit::relative))
+            .collect();
+        assert!(all.len() > 3000, "{}", all.len());
+        all.sort_by(f64::total_cmp);
+        let median = all[all.len() / 2];
+        for threads in [1, 3] {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            assert_eq!(pool.install(|| estimate_noise(&cloud)), Some(median));
+        }
+    }
 
     #[test]
     fn prediction_is_clamped() {
