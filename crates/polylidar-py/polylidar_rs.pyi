@@ -180,10 +180,12 @@ class Polylidar:
         intrinsics: Union[Intrinsics, str, PathLike, None] = None,
         depth_scale: Optional[float] = None,
         prefetch: int = 1,
+        in_flight: int = 0,
     ) -> List[Tuple[str, Extraction]]:
-        """Runs the pipeline over depth frames in order, one pipeline kept across them and
-        the next frame decoded on a loader thread; the camera as for :meth:`extract_file`.
-        Raises on the first frame that fails, naming it."""
+        """Runs the pipeline over depth frames in order, one pipeline kept across them, the
+        next frame decoded on a loader thread and ``in_flight`` frames run at once (0: two
+        when the parameters refine the planes, else one; 1: each alone); the camera as for
+        :meth:`extract_file`. Raises on the first frame that fails, naming it."""
 
 class FastGA:
     """Dominant plane normals (Fast Gaussian Accumulator), the accumulator built once."""

@@ -62,6 +62,7 @@ fn stream_of_icl_frames_equals_each_frame_alone() {
     let report: Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(report["failed"], 0, "{report}");
     assert_eq!(report["frames"].as_array().unwrap().len(), 2, "{report}");
+    assert!(report["period_ms"].as_f64().unwrap() > 0.0, "{report}");
     let stages: Vec<&str> = report["summary"]
         .as_array()
         .unwrap()
@@ -110,6 +111,8 @@ fn stream_of_icl_frames_equals_each_frame_alone() {
             "2",
             "--prefetch",
             "0",
+            "--in-flight",
+            "1",
             "-o",
             "colored.geojsonl",
         ],

@@ -266,10 +266,13 @@ impl Polylidar {
 
     /// Runs the pipeline over depth frames (16-bit PNGs, or organized clouds) in the
     /// order given, with one pipeline kept across them and the next frame read and
-    /// decoded on a loader thread (``prefetch`` frames ahead; 0: in turn) while one runs.
-    /// The camera as for :meth:`extract_file`. Returns ``[(path, Extraction)]``; raises
-    /// on the first frame that cannot be read or run, naming it.
-    #[pyo3(signature = (paths, intrinsics = None, depth_scale = None, prefetch = 1))]
+    /// decoded on a loader thread (``prefetch`` frames ahead; 0: in turn) while one runs,
+    /// ``in_flight`` frames at once on the pipeline's threads (0: two when the parameters
+    /// refine the planes, as the ``-auto`` presets do, else one; 1: each frame alone,
+    /// soonest). The camera as for :meth:`extract_file`.
+    /// Returns ``[(path, Extraction)]``; raises on the first frame that cannot be read or
+    /// run, naming it.
+    #[pyo3(signature = (paths, intrinsics = None, depth_scale = None, prefetch = 1, in_flight = 0))]
     fn stream(
         &self,
         py: Python<'_>,
@@ -277,6 +280,7 @@ impl Polylidar {
         intrinsics: Option<&Bound<'_, PyAny>>,
         depth_scale: Option<f64>,
         prefetch: usize,
+        in_flight: usize,
     ) -> PyResult<Vec<(String, Extraction)>> {
         let camera = stages::depth_camera(intrinsics, depth_scale)?;
         let sources = paths
@@ -297,7 +301,9 @@ impl Polylidar {
                 }),
             }
         };
-        let options = polylidar::stream::StreamOptions::default().with_prefetch(prefetch);
+        let options = polylidar::stream::StreamOptions::default()
+            .with_prefetch(prefetch)
+            .with_in_flight(in_flight);
         let frames: Vec<_> = py.detach(|| {
             self.inner
                 .stream_with(sources, load, options)

@@ -169,11 +169,16 @@ def test_depth_cameras_and_stream(fixture, tmp_path):
         given = pl.extract_file(png, intrinsics=intrinsics, depth_scale=scale)
         assert_same_features(features(given.geojson()), expected)
         results[png] = expected
-    # A stream gives the frame's result alone.
+    # A stream gives the frame's result alone, with frames in flight or one at a time.
     [(name, streamed)] = pl.stream([icl], intrinsics=str(camera))
     assert name == str(icl)
     assert_same_features(features(streamed.geojson()), results[icl])
     assert streamed.point_labels().shape == (480, 640)
+    for in_flight in (0, 1, 2):
+        frames = pl.stream([icl, icl, icl], intrinsics=str(camera), in_flight=in_flight)
+        assert [n for n, _ in frames] == [str(icl)] * 3
+        for _, e in frames:
+            assert_same_features(features(e.geojson()), results[icl])
     # No intrinsics: the error says so.
     lonely = tmp_path / "lonely.png"
     lonely.write_bytes(icl.read_bytes())

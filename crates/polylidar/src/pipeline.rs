@@ -376,6 +376,14 @@ impl Polylidar {
         })
     }
 
+    /// The threads of the pipeline's pool (rayon's global one with `threads` 0).
+    pub(crate) fn threads(&self) -> usize {
+        self.pool.as_ref().map_or_else(
+            rayon::current_num_threads,
+            rayon::ThreadPool::current_num_threads,
+        )
+    }
+
     /// Runs `f` in the pipeline's pool (rayon's global one with `threads` 0), a second
     /// worker polling for work while it runs (see [`install_polled`]).
     pub(crate) fn install<T: Send>(&self, f: impl FnOnce() -> T + Send) -> T {

@@ -95,7 +95,8 @@ impl Polylidar {
 
     /// [`Self::recycle`] for the mesh alone (any mesh: only its arrays are reused).
     pub fn recycle_mesh(&self, mesh: HalfEdgeMesh) {
-        reuse::lock(&self.reuse).organized.recycled = Some(mesh);
+        let left = reuse::lock(&self.reuse).organized.recycle(mesh);
+        drop(left);
     }
 
     /// The organized pipeline on `input`, which is `owned` viewed when the caller owns it.
@@ -271,13 +272,17 @@ impl Polylidar {
         };
         counts.dominant_normals = dominant.len();
         let segmentation = config.segmentation();
-        // Taken out of the shared slot for the run, so that concurrent runs do not wait
-        // for each other (one of them then starts with a fresh segmenter).
-        let mut segmenter = std::mem::take(&mut reuse::lock(&self.reuse).segmenter);
+        // Taken out of the shared slot for the run, so that runs at the same time do not
+        // wait for each other (each takes its own, see `reuse::Reusable`).
+        let mut segmenter = reuse::lock(&self.reuse)
+            .segmenter
+            .take()
+            .unwrap_or_default();
         let found = timings.time("planes_polygons", || {
             segmenter.segment(&mesh, &dominant, &segmentation)
         });
-        reuse::lock(&self.reuse).segmenter = segmenter;
+        let left = reuse::lock(&self.reuse).segmenter.put(segmenter);
+        drop(left);
         let found = found?;
         let c = found.counts;
         counts.dropped_lmax = c.groups.dropped_lmax;
@@ -362,7 +367,7 @@ impl Polylidar {
         }
         let config = self.config().fastga.config_for(normals.len());
         // Taken out for the detection (see `reuse::Reusable`): a run at the same time
-        // builds its own.
+        // takes another or builds its own.
         let taken = reuse::lock(&self.reuse).fastga.take();
         let mut fastga = match taken {
             Some(fastga) => fastga,
@@ -371,7 +376,8 @@ impl Polylidar {
         let found = fastga
             .set_sample_fraction(config.sample_fraction)
             .and_then(|()| fastga.detect(normals));
-        reuse::lock(&self.reuse).fastga.get_or_insert(fastga);
+        let left = reuse::lock(&self.reuse).fastga.put(fastga);
+        drop(left);
         Ok(found?.normals.iter().map(|d| d.normal).collect())
     }
 }

@@ -22,16 +22,69 @@ use crate::SmoothingBackend;
 /// A run takes what it needs out of the shared slot and puts it back when done; the lock
 /// is held only for those moves, never while the run computes. A run's thread is a rayon
 /// worker, which while waiting inside its run may start another run: had the first run
-/// held the lock, the second would wait for it on the same thread forever. A run that
-/// finds a part taken (by a run going on at the same time) makes its own.
+/// held the lock, the second would wait for it on the same thread forever. Runs at the
+/// same time (a stream's frames in flight, callers on several threads) each take their
+/// own: a run that finds none left makes its own, and up to [`KEPT`] of each kind are
+/// kept for the runs to come.
 #[derive(Debug, Default)]
 pub(crate) struct Reusable {
-    /// The FastGA detector, built on the first 3D run.
-    pub fastga: Option<FastGa>,
+    /// FastGA detectors, built on the first 3D run.
+    pub fastga: Kept<FastGa>,
     /// Planar segmentation's per-triangle buffers.
-    pub segmenter: Segmenter,
+    pub segmenter: Kept<Segmenter>,
     /// The organized pipeline's smoothers and frame buffers.
-    pub organized: Organized,
+    pub organized: Kept<Organized>,
+}
+
+/// Parts of one kind are kept for as many runs at once as this: more than a stream runs
+/// ([`crate::stream::StreamOptions::in_flight`]).
+const KEPT: usize = 4;
+
+/// Parts of one kind waiting for the next runs, the last put back first out.
+#[derive(Debug)]
+pub(crate) struct Kept<T>(Vec<T>);
+
+impl<T> Default for Kept<T> {
+    fn default() -> Self {
+        Self(Vec::new())
+    }
+}
+
+impl<T> Kept<T> {
+    /// A kept part, if any is left.
+    pub fn take(&mut self) -> Option<T> {
+        self.0.pop()
+    }
+
+    /// Keeps `part` for a later run; returns it when [`KEPT`] are kept already, for the
+    /// caller to drop after releasing the lock (a GPU smoother's teardown can take a
+    /// while).
+    #[must_use]
+    pub fn put(&mut self, part: T) -> Option<T> {
+        if self.0.len() < KEPT {
+            self.0.push(part);
+            None
+        } else {
+            Some(part)
+        }
+    }
+}
+
+impl Kept<Organized> {
+    /// Keeps the arrays of `mesh` for the next organized frame: with kept buffers that
+    /// have none, else beside them; returns it when [`KEPT`] have one already.
+    #[must_use]
+    pub fn recycle(&mut self, mesh: HalfEdgeMesh) -> Option<HalfEdgeMesh> {
+        if let Some(organized) = self.0.iter_mut().rev().find(|o| o.recycled.is_none()) {
+            organized.recycled = Some(mesh);
+            return None;
+        }
+        let organized = Organized {
+            recycled: Some(mesh),
+            ..Organized::default()
+        };
+        self.put(organized).and_then(|o| o.recycled)
+    }
 }
 
 /// The shared slot; a run that panicked while holding it left nothing that the next
@@ -65,31 +118,10 @@ pub(crate) struct Taken<'a> {
 }
 
 impl Organized {
-    /// Takes the organized part out of `slot` for one run.
+    /// Takes an organized part out of `slot` for one run (a fresh one when none is kept).
     pub fn take_from(slot: &Mutex<Reusable>) -> Taken<'_> {
-        let state = std::mem::take(&mut lock(slot).organized);
+        let state = lock(slot).organized.take().unwrap_or_default();
         Taken { slot, state }
-    }
-
-    /// Moves `other`'s parts into the places of this one that are empty; returns what
-    /// did not fit (parts that two runs at once each made).
-    fn fill_from(&mut self, mut other: Self) -> Self {
-        for (mine, theirs) in self.smoothers.iter_mut().zip(&mut other.smoothers) {
-            if mine.is_none() {
-                *mine = theirs.take();
-            }
-        }
-        if self.gpu.is_none() {
-            self.gpu = other.gpu.take();
-        }
-        // A mesh recycled while the run went on is newer than the run's.
-        if self.recycled.is_none() {
-            self.recycled = other.recycled.take();
-        }
-        if self.triangle_map.is_none() {
-            self.triangle_map = other.triangle_map.take();
-        }
-        other
     }
 
     /// Storage to mesh the next organized frame into: the recycled mesh's arrays and the
@@ -227,8 +259,34 @@ impl std::ops::DerefMut for Taken<'_> {
 impl Drop for Taken<'_> {
     fn drop(&mut self) {
         let state = std::mem::take(&mut self.state);
-        let left = lock(self.slot).organized.fill_from(state);
-        // Dropped after the lock is released (a GPU smoother's teardown can take a while).
+        let left = lock(self.slot).organized.put(state);
+        // Dropped after the lock is released.
         drop(left);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn kept_parts_are_capped_and_recycled_meshes_go_where_none_is() {
+        let mut kept = Kept::<Organized>::default();
+        for _ in 0..KEPT {
+            assert!(kept.put(Organized::default()).is_none());
+        }
+        assert!(kept.put(Organized::default()).is_some());
+        for _ in 0..KEPT {
+            assert!(kept.recycle(HalfEdgeMesh::default()).is_none());
+        }
+        assert!(kept.0.iter().all(|o| o.recycled.is_some()));
+        assert!(kept.recycle(HalfEdgeMesh::default()).is_some());
+        // Two runs at once take two parts, each with its recycled mesh, and put them back.
+        let (a, b) = (kept.take().unwrap(), kept.take().unwrap());
+        assert!(a.recycled.is_some() && b.recycled.is_some());
+        assert!(kept.put(a).is_none() && kept.put(b).is_none());
+        let mut fresh = Kept::<Organized>::default();
+        assert!(fresh.recycle(HalfEdgeMesh::default()).is_none());
+        assert!(fresh.take().unwrap().recycled.is_some());
     }
 }
