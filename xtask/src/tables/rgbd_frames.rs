@@ -279,9 +279,10 @@ pub fn section(ctx: &Ctx) -> Result<String> {
          wall time of a frame (min–max), p90 its 90th percentile. *Stream period* is the \
          wall time per frame of the same {frames} frames through `Polylidar::stream` with its \
          default options (two frames at once where the preset refines its planes, \
-         `rgbd-auto`, one otherwise and with GPU smoothing), each frame handed over as a \
-         copy of the one in memory and recycled after use, after a warm-up of four: what a \
-         camera stream gets. *Input cloud* is the \
+         `rgbd-auto`, one otherwise and with GPU smoothing), each frame copied from memory \
+         by the stream's loader thread (one frame ahead, as a camera's frames would be \
+         decoded; the copy competes for the same 2 cores) and recycled after use, after a \
+         warm-up of four. *Input cloud* is the \
          organized cloud of one frame (24 bytes a pixel); *peak RSS Δ* is how far one frame \
          raised the process's peak resident memory above what it held before (Linux \
          `VmHWM` after resetting it through `/proc/self/clear_refs`): the frame's mesh, \
@@ -305,9 +306,9 @@ pub fn section(ctx: &Ctx) -> Result<String> {
 }
 
 /// The wall time per frame (ms) of `frames` frames (`clouds` in turn) through
-/// [`Polylidar::stream`] with the default options but no loader thread (frames in flight
-/// as the pipeline chooses), each frame a copy of its cloud and recycled after use, after
-/// a warm-up stream of four.
+/// [`Polylidar::stream`] with the default options (the loader thread one frame ahead,
+/// frames in flight as the pipeline chooses), each frame a copy of its cloud made by the
+/// loader and recycled after use, after a warm-up stream of four.
 ///
 /// # Errors
 /// A frame's pipeline error.
@@ -322,7 +323,7 @@ fn stream_period(
         let shared = Arc::clone(&clouds);
         let load = move |k: usize| Ok(shared[k].clone());
         let start = Instant::now();
-        for frame in polylidar.stream(sources, load, StreamOptions::default().with_prefetch(0)) {
+        for frame in polylidar.stream(sources, load, StreamOptions::default()) {
             polylidar.recycle(frame.extraction?);
         }
         Ok(start.elapsed().as_secs_f64() * 1e3 / n as f64)
