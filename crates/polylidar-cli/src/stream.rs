@@ -66,7 +66,7 @@ pub struct StreamArgs {
     /// cores), else 1. 1 gives each frame's result soonest. GPU smoothing runs one at a
     /// time.
     #[arg(long, value_name = "N", default_value_t = 0,
-          value_parser = clap::value_parser!(u16).range(0..=64), help_heading = "Stream")]
+          value_parser = clap::value_parser!(u16).range(0..=8), help_heading = "Stream")]
     pub in_flight: u16,
     /// Print one JSON object on stdout: each frame's polygons and timings (ms), and the
     /// median and 90th percentile of every stage.

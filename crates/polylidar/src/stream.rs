@@ -47,9 +47,9 @@ pub struct StreamOptions {
     /// one. On a 2-core machine two at once took `rgbd-auto` streams 14–28 % less time
     /// per frame (640 × 480, 848 × 480, 424 × 240), and `rgbd` streams, which keep both
     /// threads busy alone, 2–12 % more. A frame comes out when the frames it ran with are
-    /// done too, later than alone: 1 gives the lowest latency. Frames run one at a time
-    /// whatever this says with GPU smoothing (one device queue) or a pipeline of one
-    /// thread.
+    /// done too, later than alone: 1 gives the lowest latency. No more frames run at once
+    /// than the pipeline has threads, nor than eight; one at a time with GPU smoothing
+    /// (one device queue).
     pub in_flight: usize,
 }
 
@@ -209,11 +209,12 @@ impl Polylidar {
             config.bilateral.as_ref().map(|b| b.backend),
         ]
         .contains(&Some(crate::SmoothingBackend::Gpu));
+        let threads = self.threads();
         let in_flight = match options.in_flight {
-            _ if gpu || self.threads() < 2 => 1,
+            _ if gpu || threads < 2 => 1,
             0 if config.refine => 2,
             0 => 1,
-            n => n,
+            n => n.min(threads).min(crate::reuse::KEPT),
         };
         FrameStream {
             polylidar: self,
