@@ -62,14 +62,15 @@ pub struct StreamArgs {
     #[arg(long, value_name = "N", default_value_t = 1, help_heading = "Stream")]
     pub prefetch: usize,
     /// Frames run at once on the pipeline's threads; 0 chooses: 2 when the parameters
-    /// refine the planes (the `-auto` presets: 14–28 % more frames per second on 2
-    /// cores), else 1. 1 gives each frame's result soonest. GPU smoothing runs one at a
-    /// time.
+    /// refine the planes (the `-auto` presets: 14–28 % less time per frame on 2 cores
+    /// when consecutive frames are alike), else 1. 1 gives each frame's result soonest.
+    /// GPU smoothing runs one at a time.
     #[arg(long, value_name = "N", default_value_t = 0,
-          value_parser = clap::value_parser!(u16).range(0..=8), help_heading = "Stream")]
+          value_parser = clap::value_parser!(u16).range(0..=4), help_heading = "Stream")]
     pub in_flight: u16,
-    /// Print one JSON object on stdout: each frame's polygons and timings (ms), and the
-    /// median and 90th percentile of every stage.
+    /// Print one JSON object on stdout: each frame's polygons and timings (ms), the
+    /// median and 90th percentile of every stage, and the stream's wall time per frame
+    /// (`period_ms`).
     #[arg(long, help_heading = "Stream")]
     pub json: bool,
 }

@@ -38,7 +38,7 @@ pub(crate) struct Reusable {
 
 /// Parts of one kind are kept for as many runs at once as this, the most frames a stream
 /// runs at once ([`crate::stream::StreamOptions::in_flight`]).
-pub(crate) const KEPT: usize = 8;
+pub(crate) const KEPT: usize = 4;
 
 /// Parts of one kind waiting for the next runs, the last put back first out.
 #[derive(Debug)]

@@ -44,12 +44,13 @@ pub struct StreamOptions {
     /// Frames run at once on the pipeline's threads; 0 (the default) chooses: two when
     /// the pipeline refines its planes ([`crate::Config::refine`], the `-auto` presets),
     /// whose sequential stretches leave a thread idle that another frame then uses, else
-    /// one. On a 2-core machine two at once took `rgbd-auto` streams 14–28 % less time
-    /// per frame (640 × 480, 848 × 480, 424 × 240), and `rgbd` streams, which keep both
-    /// threads busy alone, 2–12 % more. A frame comes out when the frames it ran with are
+    /// one. On a 2-core machine two at once took `rgbd-auto` streams of one frame
+    /// repeated 14–28 % less time per frame (640 × 480, 848 × 480, 424 × 240), and
+    /// `rgbd` streams, which keep both threads busy alone, 2–12 % more. Frames start in
+    /// pairs, so a pair of frames of very different cost gains little. A frame comes out when the frames it ran with are
     /// done too, later than alone: 1 gives the lowest latency. No more frames run at once
-    /// than the pipeline has threads, nor than eight; one at a time with GPU smoothing
-    /// (one device queue).
+    /// than the pipeline has threads, nor than four (the sets of buffers a `Polylidar`
+    /// keeps); one at a time with GPU smoothing (one device queue).
     pub in_flight: usize,
 }
 
