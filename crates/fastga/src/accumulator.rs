@@ -3,7 +3,9 @@
 
 use crate::icosahedron::{Icosahedron, normalized};
 use crate::image::{ImageLayout, UnwrappedImage};
-use crate::integrate::{AsNormal, Bins, Driver, IntegrateStats, Parallelism, SUM_SCALE, Sampler};
+use crate::integrate::{
+    AsNormal, Bins, Driver, IntegrateStats, Parallelism, SUM_SCALE, SampleCache, Sampler,
+};
 use crate::search::CellSearch;
 use crate::table::CellTable;
 use crate::{FastGaError, unit_tolerance_checked};
@@ -70,6 +72,8 @@ pub struct GaussianAccumulator {
     /// Normals integrated so far (for [`Search::Adaptive`]).
     integrated: u64,
     bins: Bins,
+    /// The sampled indices, kept across calls.
+    sample: SampleCache,
     layout: ImageLayout,
     unit_tolerance: f64,
 }
@@ -102,6 +106,7 @@ impl GaussianAccumulator {
             search,
             integrated: 0,
             bins,
+            sample: SampleCache::default(),
             layout,
             unit_tolerance: DEFAULT_UNIT_TOLERANCE,
         })
@@ -144,7 +149,9 @@ impl GaussianAccumulator {
         parallelism: Parallelism,
     ) -> Result<IntegrateStats, FastGaError> {
         let driver = Driver {
-            sampler: Sampler::new(sample_fraction)?,
+            kept: self
+                .sample
+                .kept(Sampler::new(sample_fraction)?, normals.len(), parallelism),
             unit_tolerance: self.unit_tolerance,
             parallelism,
         };

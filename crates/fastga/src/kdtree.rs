@@ -6,7 +6,7 @@ use kiddo::{ImmutableKdTree, SquaredEuclidean};
 
 use crate::accumulator::DEFAULT_UNIT_TOLERANCE;
 use crate::icosahedron::Icosahedron;
-use crate::integrate::{AsNormal, Bins, Driver, IntegrateStats, Parallelism, Sampler};
+use crate::integrate::{AsNormal, Bins, Driver, IntegrateStats, Parallelism, SampleCache, Sampler};
 use crate::{FastGaError, unit_tolerance_checked};
 
 /// Histogram of unit normals on a refined icosahedron, searched with a k-d tree over the cell
@@ -24,6 +24,8 @@ pub struct KdAccumulator {
     ico: Icosahedron,
     tree: ImmutableKdTree<f64, 3>,
     bins: Bins,
+    /// The sampled indices, kept across calls.
+    sample: SampleCache,
     unit_tolerance: f64,
 }
 
@@ -52,6 +54,7 @@ impl KdAccumulator {
             ico,
             tree,
             bins,
+            sample: SampleCache::default(),
             unit_tolerance: DEFAULT_UNIT_TOLERANCE,
         })
     }
@@ -89,7 +92,9 @@ impl KdAccumulator {
         parallelism: Parallelism,
     ) -> Result<IntegrateStats, FastGaError> {
         let driver = Driver {
-            sampler: Sampler::new(sample_fraction)?,
+            kept: self
+                .sample
+                .kept(Sampler::new(sample_fraction)?, normals.len(), parallelism),
             unit_tolerance: self.unit_tolerance,
             parallelism,
         };

@@ -118,6 +118,34 @@ fn sampling_is_deterministic_and_counts_add_up() {
     assert!(ga.integrate(&normals, 1.01, Parallelism::Rayon).is_err());
 }
 
+/// An accumulator reused over inputs of changing length and sample fraction (a stream of
+/// frames) bins what a fresh one bins for each input: the sample it keeps between calls
+/// is that of the input at hand.
+#[test]
+fn a_reused_accumulator_samples_each_input_as_a_fresh_one() {
+    let normals = random_units(17, 60_000);
+    let mut reused = GaussianAccumulator::with_search(3, Search::LearnedIndex).unwrap();
+    for (len, fraction) in [
+        (40_000, 0.12),
+        (25_000, 0.12),
+        (59_999, 0.12),
+        (59_999, 0.3),
+        (8_193, 0.12),
+        (10, 0.12),
+    ] {
+        reused.clear();
+        let stats = reused
+            .integrate(&normals[..len], fraction, Parallelism::Rayon)
+            .unwrap();
+        let mut fresh = GaussianAccumulator::with_search(3, Search::LearnedIndex).unwrap();
+        let expected = fresh
+            .integrate(&normals[..len], fraction, Parallelism::Sequential)
+            .unwrap();
+        assert_eq!(stats, expected, "{len} at {fraction}");
+        assert_eq!(snapshot(&reused), snapshot(&fresh), "{len} at {fraction}");
+    }
+}
+
 #[test]
 fn cell_means_are_the_mean_of_their_normals() {
     let normals = random_units(14, 5_000);
