@@ -47,10 +47,11 @@ pub struct StreamOptions {
     /// one. On a 2-core machine two at once took `rgbd-auto` streams of one frame
     /// repeated 14–28 % less time per frame (640 × 480, 848 × 480, 424 × 240), and
     /// `rgbd` streams, which keep both threads busy alone, 2–12 % more. Frames start in
-    /// pairs, so a pair of frames of very different cost gains little. A frame comes out when the frames it ran with are
-    /// done too, later than alone: 1 gives the lowest latency. No more frames run at once
-    /// than the pipeline has threads, nor than four (the sets of buffers a `Polylidar`
-    /// keeps); one at a time with GPU smoothing (one device queue).
+    /// batches of this many, so a batch of frames of very different cost gains little.
+    /// A frame comes out when the frames it ran with are done too, later than alone: 1
+    /// gives the lowest latency. No more frames run at once than the pipeline has
+    /// threads, nor than four (the sets of buffers a `Polylidar` keeps); one at a time
+    /// with GPU smoothing (one device queue).
     pub in_flight: usize,
 }
 
