@@ -141,14 +141,10 @@ impl SampleCache {
                 }
                 kept
             };
-            let starts = (self.hashed..len).step_by(CHUNK);
+            let starts = self.hashed..len;
             let pieces: Vec<Vec<usize>> = match parallelism {
-                Parallelism::Sequential => starts.map(hash).collect(),
-                Parallelism::Rayon => starts
-                    .collect::<Vec<_>>()
-                    .into_par_iter()
-                    .map(hash)
-                    .collect(),
+                Parallelism::Sequential => starts.step_by(CHUNK).map(hash).collect(),
+                Parallelism::Rayon => starts.into_par_iter().step_by(CHUNK).map(hash).collect(),
             };
             self.kept.extend(pieces.into_iter().flatten());
             self.hashed = len;
