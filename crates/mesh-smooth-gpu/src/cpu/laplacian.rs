@@ -359,11 +359,16 @@ fn rows_of_band(
         // (Called, not taken as a function pointer: only inlined into this function
         // does it get its target features.)
         let row_out = [&mut *ox, &mut *oy, &mut *oz];
-        match half {
+        // 32 vector registers (AVX-512) or 16 (AVX2): see [`BLOCK`].
+        let wide = multiversion::target::target_cfg_f!(target_feature = "avx512f");
+        match (half, wide) {
             _ if !shared => direct_row(&stencil.grid, r, src, row_out, ow),
-            1 => shared_row::<8>(stencil, r, src, ring, row_out, ow),
-            2 => shared_row::<24>(stencil, r, src, ring, row_out, ow),
-            _ => shared_row::<48>(stencil, r, src, ring, row_out, ow),
+            (1, true) => shared_row::<8, WIDE_BLOCK>(stencil, r, src, ring, row_out, ow),
+            (2, true) => shared_row::<24, WIDE_BLOCK>(stencil, r, src, ring, row_out, ow),
+            (_, true) => shared_row::<48, WIDE_BLOCK>(stencil, r, src, ring, row_out, ow),
+            (1, false) => shared_row::<8, BLOCK>(stencil, r, src, ring, row_out, ow),
+            (2, false) => shared_row::<24, BLOCK>(stencil, r, src, ring, row_out, ow),
+            (_, false) => shared_row::<48, BLOCK>(stencil, r, src, ring, row_out, ow),
         }
         if let Some(limits) = limits {
             for (i, &limit) in limits.per_pixel[span.clone()].iter().enumerate() {
@@ -412,15 +417,21 @@ fn pair_inverses(stencil: &Stencil, r: usize, src: &Source<'_>, ring: &mut [f32]
 }
 
 /// Points whose sums one block of [`shared_row`] keeps in registers across all terms.
-const BLOCK: usize = 32;
+/// Four sums a point: 16 points take 8 of AVX2's 16 vector registers (32 points took all
+/// 16 and spilled: the Laplacian stage at 424 × 240 took about 5 % longer on one thread,
+/// AMD EPYC).
+const BLOCK: usize = 16;
+
+/// [`BLOCK`] with AVX-512: 32 points take 8 of its 32 vector registers.
+const WIDE_BLOCK: usize = 32;
 
 /// Writes row `r` of the next pass into `out` and its weight sums into `sums`, from the
-/// inverse distances of rows `r − half ..= r` in the ring; the sums of [`BLOCK`] points
-/// at a time stay in registers while every term is added to them and while the points
+/// inverse distances of rows `r − half ..= r` in the ring; the sums of `POINTS` points
+/// ([`BLOCK`] or [`WIDE_BLOCK`]) at a time stay in registers while every term is added to them and while the points
 /// move ([`finished`]: moving them in a second pass over the written row, as
 /// [`direct_row`] does, took the filter 6 % longer at 424 × 240).
 #[inline(always)]
-fn shared_row<const TERMS: usize>(
+fn shared_row<const TERMS: usize, const POINTS: usize>(
     stencil: &Stencil,
     r: usize,
     src: &Source<'_>,
@@ -463,7 +474,7 @@ fn shared_row<const TERMS: usize>(
         |at| {
             finished(
                 grid.lambda,
-                term_sums::<BLOCK, TERMS>(&terms, at),
+                term_sums::<POINTS, TERMS>(&terms, at),
                 own + at,
                 src,
             )
@@ -657,7 +668,12 @@ mod tests {
         let rows = 11;
         let mut rng = ChaCha8Rng::seed_from_u64(3);
         for half in 1..=4 {
-            for cols in [2 * half + 5, 2 * half + BLOCK, 2 * half + 2 * BLOCK + 3] {
+            for cols in [
+                2 * half + 5,
+                2 * half + BLOCK,
+                2 * half + 2 * BLOCK + 3,
+                2 * half + 2 * WIDE_BLOCK + 3,
+            ] {
                 let n = rows * cols;
                 let mut plane = || -> Vec<f32> { (0..n).map(|_| rng.random::<f32>()).collect() };
                 let (x, y, z) = (plane(), plane(), plane());
