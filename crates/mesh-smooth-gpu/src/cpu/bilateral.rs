@@ -850,9 +850,10 @@ const WIDE_BLOCK: usize = 32;
 /// [`unit_or_own`] keeps it), so its terms add exact zeros without a mask; the terms are
 /// added in the order of [`direct_row`]. Both triangle types of a cell have the same
 /// neighbours, so each neighbour's normal is read once for both sums. The sums of
-/// `CELLS` cells ([`BLOCK`] or [`WIDE_BLOCK`]) at a time stay in registers while every term is added to them and
-/// while they are normalised ([`normalized`]: normalising the written row afterwards,
-/// as [`direct_row`] does, took the filter 4 % longer at 424 × 240).
+/// `CELLS` cells ([`BLOCK`] or [`WIDE_BLOCK`]) at a time stay in registers while every
+/// term is added to them and while they are normalised ([`normalized`]: normalising the
+/// written row afterwards, as [`direct_row`] does, took the filter 4 % longer at
+/// 424 × 240).
 #[inline(always)]
 fn output_row<const TERMS: usize, const CELLS: usize>(
     filter: &Filter,

@@ -427,9 +427,9 @@ const WIDE_BLOCK: usize = 32;
 
 /// Writes row `r` of the next pass into `out` and its weight sums into `sums`, from the
 /// inverse distances of rows `r − half ..= r` in the ring; the sums of `POINTS` points
-/// ([`BLOCK`] or [`WIDE_BLOCK`]) at a time stay in registers while every term is added to them and while the points
-/// move ([`finished`]: moving them in a second pass over the written row, as
-/// [`direct_row`] does, took the filter 6 % longer at 424 × 240).
+/// ([`BLOCK`] or [`WIDE_BLOCK`]) at a time stay in registers while every term is added
+/// to them and while the points move ([`finished`]: moving them in a second pass over
+/// the written row, as [`direct_row`] does, took the filter 6 % longer at 424 × 240).
 #[inline(always)]
 fn shared_row<const TERMS: usize, const POINTS: usize>(
     stencil: &Stencil,
