@@ -172,8 +172,9 @@ pub fn write_index(ctx: &Ctx) -> Result<()> {
          noisy; each table says so in its header when that happened. `--only` republishes some \
          tables and leaves the others: each table's header names the machine and date it was \
          measured on, and cloud machines of one name differ (the CPU line gives family, model \
-         and vector extension; an AVX2 machine runs the kernels about half as fast as an \
-         AVX-512 one), so compare timings within a table.\n"
+         and vector extension; an AVX2 machine takes 1.4–1.7 times as long for the \
+         bilateral filter as an AVX-512 one, and about as long for the other stages: see \
+         `amd-epyc-avx2/`), so compare timings within a table.\n"
     );
     let _ = writeln!(s, "## Results\n");
     for spec in ALL {
