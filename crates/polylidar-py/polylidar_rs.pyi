@@ -183,8 +183,8 @@ class Polylidar:
         in_flight: int = 0,
     ) -> List[Tuple[str, Extraction]]:
         """Runs the pipeline over depth frames in order, one pipeline kept across them, the
-        next frame decoded on a loader thread and ``in_flight`` frames run at once (0: two
-        when the parameters refine the planes, else one; 1: each alone); the camera as for
+        next frame decoded on a loader thread and ``in_flight`` frames run at once (0: one
+        or two, whichever short trials show to be faster; 1: each alone); the camera as for
         :meth:`extract_file`. Raises on the first frame that fails, naming it."""
 
 class FastGA:

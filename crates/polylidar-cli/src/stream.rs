@@ -61,10 +61,10 @@ pub struct StreamArgs {
     /// Frames read and decoded ahead on a loader thread (0: read each in turn).
     #[arg(long, value_name = "N", default_value_t = 1, help_heading = "Stream")]
     pub prefetch: usize,
-    /// Frames run at once on the pipeline's threads; 0 chooses: 2 when the parameters
-    /// refine the planes (the `-auto` presets: 14–28 % less time per frame on 2 cores
-    /// when consecutive frames are alike), else 1. 1 gives each frame's result soonest.
-    /// GPU smoothing runs one at a time.
+    /// Frames run at once on the pipeline's threads; 0 chooses 1 or 2 by measuring: it
+    /// starts with 2 where the parameters refine the planes (the `-auto` presets), else
+    /// 1, and every 256 frames times 16 frames with each and keeps the faster. 1 gives
+    /// each frame's result soonest. GPU smoothing runs one at a time.
     #[arg(long, value_name = "N", default_value_t = 0,
           value_parser = clap::value_parser!(u16).range(0..=4), help_heading = "Stream")]
     pub in_flight: u16,

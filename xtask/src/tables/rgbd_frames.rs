@@ -159,7 +159,7 @@ pub fn section(ctx: &Ctx) -> Result<String> {
             "decimate",
             "total (wall)",
             "p90 (wall)",
-            "stream period",
+            "stream period, 1 / 2 at once",
             "must / target",
             "input cloud",
             "peak RSS Δ",
@@ -235,7 +235,8 @@ pub fn section(ctx: &Ctx) -> Result<String> {
         for (_, config) in &variants {
             let polylidar = Polylidar::new(config.clone())?;
             let mut row = rows.next().ok_or_else(|| msg("a row per variant"))?;
-            row[period_column] = ms(stream_period(&polylidar, &size.frames, frames)?);
+            let [one, two] = [1, 2].map(|n| stream_period(&polylidar, &size.frames, frames, n));
+            row[period_column] = format!("{} / {}", ms(one?), ms(two?));
             table.row(row);
         }
     }
@@ -288,9 +289,10 @@ pub fn section(ctx: &Ctx) -> Result<String> {
          decimation by 2 made the paper's 424 × 240 frames 212 × 120; Table 10b gives the \
          accuracy this costs). Total is the median \
          wall time of a frame (min–max), p90 its 90th percentile. *Stream period* is the \
-         wall time per frame of the same {frames} frames through `Polylidar::stream` with its \
-         default options (two frames at once where the preset refines its planes, \
-         `rgbd-auto`, one otherwise and with GPU smoothing), the frames already in memory \
+         wall time per frame of the same {frames} frames through `Polylidar::stream`, one \
+         frame at a time and two at once (`StreamOptions::in_flight`; by default a stream \
+         measures both as it goes and keeps the faster, and with GPU smoothing it runs one \
+         at a time either way), the frames already in memory \
          (handed over by the stream's loader thread as they are) and each recycled after \
          use, after a warm-up of eight (a fresh `Polylidar` per row, after every row's other \
          columns). Frames in flight start in pairs: where the two \
@@ -321,8 +323,8 @@ pub fn section(ctx: &Ctx) -> Result<String> {
 }
 
 /// The wall time per frame (ms) of `frames` frames (`clouds` in turn) through
-/// [`Polylidar::stream`] with the default options (frames in flight as the pipeline
-/// chooses), each recycled after use, after a warm-up stream of eight. The frames are
+/// [`Polylidar::stream`] with `in_flight` frames at once and the other options the
+/// defaults, each recycled after use, after a warm-up stream of eight. The frames are
 /// copied before the clock starts and the loader hands each over as it is, so that the
 /// frame is already in memory, as for the other columns.
 ///
@@ -332,7 +334,9 @@ fn stream_period(
     polylidar: &Polylidar,
     clouds: &[OrganizedPointCloud],
     frames: usize,
+    in_flight: usize,
 ) -> Result<f64> {
+    let options = StreamOptions::default().with_in_flight(in_flight);
     let run = |n: usize| -> Result<f64> {
         let mut ready: Vec<Option<OrganizedPointCloud>> = (0..n)
             .map(|k| Some(clouds[k % clouds.len()].clone()))
@@ -348,7 +352,7 @@ fn stream_period(
                 })
         };
         let start = Instant::now();
-        for frame in polylidar.stream(sources, load, StreamOptions::default()) {
+        for frame in polylidar.stream(sources, load, options) {
             polylidar.recycle(frame.extraction?);
         }
         Ok(start.elapsed().as_secs_f64() * 1e3 / n as f64)
