@@ -324,7 +324,7 @@ const SWITCH_GAIN: f64 = 0.03;
 /// the machine weighs on both. The other count replaces the one in use only if it took
 /// [`SWITCH_GAIN`] less time per frame.
 #[derive(Debug, Clone)]
-pub(crate) struct Chooser {
+struct Chooser {
     /// The count in use outside trials: 1 or 2.
     current: usize,
     /// Frames to run before the next trial.
@@ -344,7 +344,7 @@ struct Trial {
 
 impl Chooser {
     /// A chooser that starts with `first` (1 or 2) frames at a time.
-    pub(crate) fn new(first: usize) -> Self {
+    fn new(first: usize) -> Self {
         Self {
             current: first.clamp(1, 2),
             until_trial: FIRST_TRIAL_AFTER,
@@ -353,7 +353,7 @@ impl Chooser {
     }
 
     /// How many frames to run at once next.
-    pub(crate) fn batch(&self) -> usize {
+    fn batch(&self) -> usize {
         match &self.trial {
             Some(trial) => trial.windows.last().copied().unwrap_or(self.current),
             None => self.current,
@@ -361,7 +361,7 @@ impl Chooser {
     }
 
     /// Counts `frames` frames run at once in `run`.
-    pub(crate) fn record(&mut self, frames: usize, run: Duration) {
+    fn record(&mut self, frames: usize, run: Duration) {
         let Some(trial) = &mut self.trial else {
             self.until_trial = self.until_trial.saturating_sub(frames);
             if self.until_trial == 0 {

@@ -680,17 +680,14 @@ fn rows_of_band(
     let Band { start, first } = band;
     let last = first + out[0][0].len() / cols;
     let shared = filter.offsets.shares_pairs();
-    // 32 vector registers of 16 lanes (AVX-512) or 16 of 8 (AVX2): see [`pair_weights`]
-    // and [`BLOCK`].
-    let wide = multiversion::target::target_cfg_f!(target_feature = "avx512f");
+    // 32 vector registers of 16 lanes (AVX-512) or 16 of 8 (AVX2), fixed in each compiled
+    // copy: see [`pair_weights`] and [`BLOCK`].
+    const WIDE: bool = multiversion::target::target_cfg_f!(target_feature = "avx512f");
+    const CELLS: usize = if WIDE { WIDE_BLOCK } else { BLOCK };
     for r in start..last {
         // Rows within `half` of the bottom are nobody's backward neighbours.
         if shared && r + half < rows {
-            if wide {
-                pair_weights::<false>(filter, r, normals, types, ring);
-            } else {
-                pair_weights::<true>(filter, r, normals, types, ring);
-            }
+            pair_weights::<{ !WIDE }>(filter, r, normals, types, ring);
         }
         if r >= first {
             let at = (r - first) * cols..(r - first + 1) * cols;
@@ -702,14 +699,10 @@ fn rows_of_band(
                 // 3, 5 or 7, two triangles each.
                 // (Called, not taken as a function pointer: only inlined into this
                 // function does it get its target features.)
-                let (n, t, ring) = (normals, types, &*ring);
-                match (half, wide) {
-                    (1, true) => output_row::<16, WIDE_BLOCK>(filter, r, n, t, ring, row_out),
-                    (2, true) => output_row::<48, WIDE_BLOCK>(filter, r, n, t, ring, row_out),
-                    (_, true) => output_row::<96, WIDE_BLOCK>(filter, r, n, t, ring, row_out),
-                    (1, false) => output_row::<16, BLOCK>(filter, r, n, t, ring, row_out),
-                    (2, false) => output_row::<48, BLOCK>(filter, r, n, t, ring, row_out),
-                    (_, false) => output_row::<96, BLOCK>(filter, r, n, t, ring, row_out),
+                match half {
+                    1 => output_row::<16, CELLS>(filter, r, normals, types, ring, row_out),
+                    2 => output_row::<48, CELLS>(filter, r, normals, types, ring, row_out),
+                    _ => output_row::<96, CELLS>(filter, r, normals, types, ring, row_out),
                 }
             } else {
                 direct_row(filter, r, normals, types, row_out);

@@ -359,16 +359,18 @@ fn rows_of_band(
         // (Called, not taken as a function pointer: only inlined into this function
         // does it get its target features.)
         let row_out = [&mut *ox, &mut *oy, &mut *oz];
-        // 32 vector registers (AVX-512) or 16 (AVX2): see [`BLOCK`].
-        let wide = multiversion::target::target_cfg_f!(target_feature = "avx512f");
-        match (half, wide) {
+        // 32 vector registers (AVX-512) or 16 (AVX2), fixed in each compiled copy: see
+        // [`BLOCK`].
+        const POINTS: usize = if multiversion::target::target_cfg_f!(target_feature = "avx512f") {
+            WIDE_BLOCK
+        } else {
+            BLOCK
+        };
+        match half {
             _ if !shared => direct_row(&stencil.grid, r, src, row_out, ow),
-            (1, true) => shared_row::<8, WIDE_BLOCK>(stencil, r, src, ring, row_out, ow),
-            (2, true) => shared_row::<24, WIDE_BLOCK>(stencil, r, src, ring, row_out, ow),
-            (_, true) => shared_row::<48, WIDE_BLOCK>(stencil, r, src, ring, row_out, ow),
-            (1, false) => shared_row::<8, BLOCK>(stencil, r, src, ring, row_out, ow),
-            (2, false) => shared_row::<24, BLOCK>(stencil, r, src, ring, row_out, ow),
-            (_, false) => shared_row::<48, BLOCK>(stencil, r, src, ring, row_out, ow),
+            1 => shared_row::<8, POINTS>(stencil, r, src, ring, row_out, ow),
+            2 => shared_row::<24, POINTS>(stencil, r, src, ring, row_out, ow),
+            _ => shared_row::<48, POINTS>(stencil, r, src, ring, row_out, ow),
         }
         if let Some(limits) = limits {
             for (i, &limit) in limits.per_pixel[span.clone()].iter().enumerate() {
