@@ -620,9 +620,10 @@ impl Filter {
     /// `|n − m|²` is `2 − 2 n · m`: one dot product instead of three differences. A
     /// missing triangle's zero normal gets a wrong weight that way, but harmlessly: its
     /// own sum is never used (it keeps its normal) and its zero normal adds nothing to its
-    /// neighbours' sums. The same bits whichever triangle comes first.
+    /// neighbours' sums. The same bits whichever triangle comes first. `ROUNDS`: see
+    /// [`exp2_nonpositive`].
     #[inline(always)]
-    fn weight(
+    fn weight<const ROUNDS: bool>(
         &self,
         [ex, ey, ez]: [f32; 3],
         [nx, ny, nz]: [f32; 3],
@@ -630,7 +631,7 @@ impl Filter {
     ) -> f32 {
         let length = fma(ez, ez, fma(ey, ey, ex * ex));
         let dot = fma(nz, mz, fma(ny, my, nx * mx));
-        exp2_nonpositive(fma(
+        exp2_nonpositive::<ROUNDS>(fma(
             dot,
             self.two_angle_log2,
             fma(length, -self.length_log2, -self.two_angle_log2),
@@ -684,10 +685,17 @@ fn rows_of_band(
     // copy: see [`pair_weights`] and [`BLOCK`].
     const WIDE: bool = multiversion::target::target_cfg_f!(target_feature = "avx512f");
     const CELLS: usize = if WIDE { WIDE_BLOCK } else { BLOCK };
+    // Rounding in one instruction (see [`exp2_nonpositive`]); the copies name AVX2 or
+    // AVX-512, not the SSE4.1 they imply.
+    const ROUNDS: bool = multiversion::target::target_cfg_f!(any(
+        target_feature = "sse4.1",
+        target_feature = "avx2",
+        target_feature = "avx512f"
+    )) || cfg!(target_arch = "aarch64");
     for r in start..last {
         // Rows within `half` of the bottom are nobody's backward neighbours.
         if shared && r + half < rows {
-            pair_weights::<{ !WIDE }>(filter, r, normals, types, ring);
+            pair_weights::<{ !WIDE }, ROUNDS>(filter, r, normals, types, ring);
         }
         if r >= first {
             let at = (r - first) * cols..(r - first + 1) * cols;
@@ -705,7 +713,7 @@ fn rows_of_band(
                     _ => output_row::<96, CELLS>(filter, r, normals, types, ring, row_out),
                 }
             } else {
-                direct_row(filter, r, normals, types, row_out);
+                direct_row::<ROUNDS>(filter, r, normals, types, row_out);
             }
         }
     }
@@ -722,7 +730,7 @@ fn rows_of_band(
 /// bilateral stage of a 424 × 240 frame from 6.15 to 5.38 ms on one thread (AMD EPYC,
 /// AVX2, three alternated runs). The weights are the same bits either way.
 #[inline(always)]
-fn pair_weights<const SEPARATE: bool>(
+fn pair_weights<const SEPARATE: bool, const ROUNDS: bool>(
     filter: &Filter,
     r: usize,
     normals: &[Xyz<'_>; 2],
@@ -774,10 +782,10 @@ fn pair_weights<const SEPARATE: bool>(
                 [qc0x, qc0y, qc0z, qn0x, qn0y, qn0z],
                 [qc1x, qc1y, qc1z, qn1x, qn1y, qn1z],
             ];
-            type_pair_weights(filter, own[0], other[0], w00);
-            type_pair_weights(filter, own[0], other[1], w01);
-            type_pair_weights(filter, own[1], other[0], w10);
-            type_pair_weights(filter, own[1], other[1], w11);
+            type_pair_weights::<ROUNDS>(filter, own[0], other[0], w00);
+            type_pair_weights::<ROUNDS>(filter, own[0], other[1], w01);
+            type_pair_weights::<ROUNDS>(filter, own[1], other[0], w10);
+            type_pair_weights::<ROUNDS>(filter, own[1], other[1], w11);
             continue;
         }
         for i in 0..len {
@@ -790,7 +798,7 @@ fn pair_weights<const SEPARATE: bool>(
                 [qc1x[i], qc1y[i], qc1z[i], qn1x[i], qn1y[i], qn1z[i]],
             ];
             let weight = |a: [f32; 6], b: [f32; 6]| {
-                filter.weight(
+                filter.weight::<ROUNDS>(
                     [a[0] - b[0], a[1] - b[1], a[2] - b[2]],
                     [a[3], a[4], a[5]],
                     [b[3], b[4], b[5]],
@@ -808,7 +816,12 @@ fn pair_weights<const SEPARATE: bool>(
 /// x, y, z and normal x, y, z planes from the first of `w.len()` cells on (see
 /// [`pair_weights`]).
 #[inline(always)]
-fn type_pair_weights(filter: &Filter, a: [&[f32]; 6], b: [&[f32]; 6], w: &mut [f32]) {
+fn type_pair_weights<const ROUNDS: bool>(
+    filter: &Filter,
+    a: [&[f32]; 6],
+    b: [&[f32]; 6],
+    w: &mut [f32],
+) {
     let len = w.len();
     let [ax, ay, az, anx, any, anz] = a;
     let [bx, by, bz, bnx, bny, bnz] = b;
@@ -819,7 +832,7 @@ fn type_pair_weights(filter: &Filter, a: [&[f32]; 6], b: [&[f32]; 6], w: &mut [f
     let (bx, by, bz) = (&bx[..len], &by[..len], &bz[..len]);
     let (bnx, bny, bnz) = (&bnx[..len], &bny[..len], &bnz[..len]);
     for i in 0..len {
-        w[i] = filter.weight(
+        w[i] = filter.weight::<ROUNDS>(
             [ax[i] - bx[i], ay[i] - by[i], az[i] - bz[i]],
             [anx[i], any[i], anz[i]],
             [bnx[i], bny[i], bnz[i]],
@@ -934,7 +947,7 @@ fn term_sums<const N: usize, const TERMS: usize>(
 /// [`output_row`] with each weight computed where it is used: the filter's definition,
 /// for kernels too large to share weights.
 #[inline(always)]
-fn direct_row(
+fn direct_row<const ROUNDS: bool>(
     filter: &Filter,
     r: usize,
     normals: &[Xyz<'_>; 2],
@@ -961,7 +974,7 @@ fn direct_row(
                 let qm = &types[kn].mask[q..q + len];
                 for i in 0..len {
                     let w = qm[i]
-                        * filter.weight(
+                        * filter.weight::<ROUNDS>(
                             [cx[i] - qcx[i], cy[i] - qcy[i], cz[i] - qcz[i]],
                             [nx[i], ny[i], nz[i]],
                             [qnx[i], qny[i], qnz[i]],
@@ -1128,7 +1141,9 @@ mod tests {
                 let out = expected
                     .each_mut()
                     .map(|planes| planes.each_mut().map(|p| &mut p[at.clone()]));
-                direct_row(&filter, r, &normals, &types, out);
+                // The rounding of a machine without a rounding instruction: the kernels
+                // must give the same bits with theirs.
+                direct_row::<false>(&filter, r, &normals, &types, out);
             }
             // Bands continuing one ring (in order, as a rayon task takes them), and bands
             // each on a ring of stale weights.
