@@ -1129,27 +1129,30 @@ mod tests {
         })
     }
 
-    /// Bands of every start and size, with the weights shared between rows and types,
-    /// give the bits of the direct computation, row by row, for every kernel that
-    /// shares weights and grids narrower and wider than the kernel, and rows shorter
-    /// than, a multiple of and between multiples of [`BLOCK`] and [`WIDE_BLOCK`].
-    #[test]
-    fn bands_match_the_direct_computation() {
-        for (rows, cols, half) in [
-            (6, 29, 1),
-            (9, 7, 2),
-            (12, 40, 2),
-            (8, 3, 1),
-            (11, 17, 3),
-            (7, 75, 1),
-            (8, 70, 3),
-            (7, 34, 1),
-            (6, 45, 2),
-            (5, 18, 1),
-            (6, 16, 1),
-        ] {
+    /// Cell rows, columns and kernel half-width of the grids the tests filter: every
+    /// kernel that shares weights, grids narrower and wider than the kernel, and rows
+    /// shorter than, a multiple of and between multiples of [`LANES`], [`BLOCK`] and
+    /// [`WIDE_BLOCK`].
+    const GRIDS: [(usize, usize, usize); 11] = [
+        (6, 29, 1),
+        (9, 7, 2),
+        (12, 40, 2),
+        (8, 3, 1),
+        (11, 17, 3),
+        (7, 75, 1),
+        (8, 70, 3),
+        (7, 34, 1),
+        (6, 45, 2),
+        (5, 18, 1),
+        (6, 16, 1),
+    ];
+
+    /// Calls `test` with the random normals and triangle types ([`random_planes`], seeded
+    /// from the grid's size and `seed`) and the filter of each of [`GRIDS`].
+    fn on_grids(seed: u64, test: impl Fn(Cells, &[Xyz<'_>; 2], &[TypeView<'_>; 2], &Filter)) {
+        for (rows, cols, half) in GRIDS {
             let cells = Cells { rows, cols, half };
-            let data = random_planes(cells, (rows * cols) as u64);
+            let data = random_planes(cells, (rows * cols) as u64 + seed);
             let normals = data
                 .each_ref()
                 .map(|(n, _, _)| n.each_ref().map(Vec::as_slice));
@@ -1157,7 +1160,16 @@ mod tests {
                 centroid: c.each_ref().map(Vec::as_slice),
                 mask: m,
             });
-            let filter = Filter::new(cells, 30.0, 4.0);
+            test(cells, &normals, &types, &Filter::new(cells, 30.0, 4.0));
+        }
+    }
+
+    /// Bands of every start and size, with the weights shared between rows and types,
+    /// give the bits of the direct computation, row by row, on each of [`GRIDS`].
+    #[test]
+    fn bands_match_the_direct_computation() {
+        on_grids(0, |cells, normals, types, filter| {
+            let Cells { rows, cols, half } = cells;
             let empty = |n: usize| [0, 1].map(|_| [0, 1, 2].map(|_| vec![0.0f32; n]));
             let mut expected = empty(rows * cols);
             for r in 0..rows {
@@ -1167,7 +1179,7 @@ mod tests {
                     .map(|planes| planes.each_mut().map(|p| &mut p[at.clone()]));
                 // The rounding of a machine without a rounding instruction: the kernels
                 // must give the same bits with theirs.
-                direct_row::<false>(&filter, r, &normals, &types, out);
+                direct_row::<false>(filter, r, normals, types, out);
             }
             // Bands continuing one ring (in order, as a rayon task takes them), and bands
             // each on a ring of stale weights.
@@ -1192,7 +1204,7 @@ mod tests {
                         .map(|planes| planes.each_mut().map(|p| &mut p[at.clone()]));
                     let last = (first + band).min(rows);
                     let part = ring.band(first, last, filter.offsets.above());
-                    rows_of_band(&filter, part, &normals, &types, &mut ring.values, out);
+                    rows_of_band(filter, part, normals, types, &mut ring.values, out);
                 }
                 let bits = |v: &[[Vec<f32>; 3]; 2]| -> Vec<u32> {
                     v.iter().flatten().flatten().map(|f| f.to_bits()).collect()
@@ -1203,6 +1215,27 @@ mod tests {
                     "{rows}×{cols}, half {half}, band {band}, shared ring {shared}"
                 );
             }
-        }
+        });
+    }
+
+    /// The pass over all four pairs of triangle types at once (the AVX-512 layout) and
+    /// the pass per pair (the AVX2 layout, whose rows end in an overlapping block) write
+    /// the same bits into the ring, whichever layout this machine's kernels use.
+    #[test]
+    fn both_pair_weight_layouts_agree() {
+        on_grids(1, |cells, normals, types, filter| {
+            let Cells { rows, cols, half } = cells;
+            let (mut shared, mut separate) = (filter.ring(), filter.ring());
+            for r in 0..rows {
+                pair_weights::<false, true>(filter, r, normals, types, &mut shared.values);
+                pair_weights::<true, true>(filter, r, normals, types, &mut separate.values);
+                let bits = |v: &[f32]| -> Vec<u32> { v.iter().map(|f| f.to_bits()).collect() };
+                assert_eq!(
+                    bits(&shared.values),
+                    bits(&separate.values),
+                    "{rows}×{cols}, half {half}, row {r}"
+                );
+            }
+        });
     }
 }
