@@ -268,7 +268,8 @@ impl Polylidar {
     /// order given, with one pipeline kept across them and the next frame read and
     /// decoded on a loader thread (``prefetch`` frames ahead; 0: in turn) while one runs,
     /// ``in_flight`` frames at once on the pipeline's threads (0: one or two, whichever
-    /// short trials as the stream goes show to be faster; 1: each frame alone, soonest). The camera as for :meth:`extract_file`.
+    /// short trials as the stream goes show to be faster; 1: each frame alone, soonest).
+    /// The camera as for :meth:`extract_file`.
     /// Returns ``[(path, Extraction)]``; raises on the first frame that cannot be read or
     /// run, naming it.
     #[pyo3(signature = (paths, intrinsics = None, depth_scale = None, prefetch = 1, in_flight = 0))]

@@ -280,7 +280,8 @@ impl<X: Send> FrameStream<'_, X> {
         } else {
             batch.into_iter().map(run).collect()
         };
-        if let InFlight::Measured(chooser) = &mut self.in_flight {
+        // Past the last frame the batch is empty: nothing to time.
+        if let (InFlight::Measured(chooser), 1..) = (&mut self.in_flight, frames) {
             chooser.record(frames, start.elapsed());
         }
         for (name, extraction, extra, load, wait, run) in ran {
