@@ -1,6 +1,8 @@
 //! The bilateral normal filter on the implicit right-cut mesh, `f32` planes per triangle
 //! type, a band of cell rows per task.
 
+use std::ops::Range;
+
 use opc_mesh::{OpcMesh, OrganizedPointCloud};
 use rayon::prelude::*;
 
@@ -728,7 +730,9 @@ fn rows_of_band(
 /// general-purpose registers; with AVX2 (`SEPARATE` true) its loop reloaded them from
 /// the stack, and a pass per pair of types (13 planes: [`type_pair_weights`]) took the
 /// bilateral stage of a 424 × 240 frame from 6.15 to 5.38 ms on one thread (AMD EPYC,
-/// AVX2, three alternated runs). The weights are the same bits either way.
+/// AVX2, three alternated runs). The weights are the same bits either way. Both passes
+/// run a row in whole vector blocks and end it with one more block that overlaps the one
+/// before ([`block_runs`]), not with the last cells one at a time.
 #[inline(always)]
 fn pair_weights<const SEPARATE: bool, const ROUNDS: bool>(
     filter: &Filter,
@@ -756,14 +760,6 @@ fn pair_weights<const SEPARATE: bool, const ROUNDS: bool>(
                 [cx, cy, cz, nx, ny, nz]
             })
         };
-        let [
-            [pc0x, pc0y, pc0z, pn0x, pn0y, pn0z],
-            [pc1x, pc1y, pc1z, pn1x, pn1y, pn1z],
-        ] = side(p);
-        let [
-            [qc0x, qc0y, qc0z, qn0x, qn0y, qn0z],
-            [qc1x, qc1y, qc1z, qn1x, qn1y, qn1z],
-        ] = side(q);
         // The ring rows of the pairs (k1, k2) = (0, 0), (0, 1), (1, 0), (1, 1) follow
         // each other `cols` apart.
         let start = filter.ring_row(r, pair, 0, 0) + lo;
@@ -773,51 +769,84 @@ fn pair_weights<const SEPARATE: bool, const ROUNDS: bool>(
         let (w10, w11) = rest.split_at_mut(cols);
         let (w00, w01) = (&mut w00[..len], &mut w01[..len]);
         let (w10, w11) = (&mut w10[..len], &mut w11[..len]);
+        let (own, other) = (side(p), side(q));
         if SEPARATE {
-            let own = [
-                [pc0x, pc0y, pc0z, pn0x, pn0y, pn0z],
-                [pc1x, pc1y, pc1z, pn1x, pn1y, pn1z],
-            ];
-            let other = [
-                [qc0x, qc0y, qc0z, qn0x, qn0y, qn0z],
-                [qc1x, qc1y, qc1z, qn1x, qn1y, qn1z],
-            ];
             type_pair_weights::<ROUNDS>(filter, own[0], other[0], w00);
             type_pair_weights::<ROUNDS>(filter, own[0], other[1], w01);
             type_pair_weights::<ROUNDS>(filter, own[1], other[0], w10);
             type_pair_weights::<ROUNDS>(filter, own[1], other[1], w11);
             continue;
         }
-        for i in 0..len {
-            let own = [
-                [pc0x[i], pc0y[i], pc0z[i], pn0x[i], pn0y[i], pn0z[i]],
-                [pc1x[i], pc1y[i], pc1z[i], pn1x[i], pn1y[i], pn1z[i]],
-            ];
-            let other = [
-                [qc0x[i], qc0y[i], qc0z[i], qn0x[i], qn0y[i], qn0z[i]],
-                [qc1x[i], qc1y[i], qc1z[i], qn1x[i], qn1y[i], qn1z[i]],
-            ];
-            let weight = |a: [f32; 6], b: [f32; 6]| {
-                filter.weight::<ROUNDS>(
-                    [a[0] - b[0], a[1] - b[1], a[2] - b[2]],
-                    [a[3], a[4], a[5]],
-                    [b[3], b[4], b[5]],
-                )
-            };
-            w00[i] = weight(own[0], other[0]);
-            w01[i] = weight(own[0], other[1]);
-            w10[i] = weight(own[1], other[0]);
-            w11[i] = weight(own[1], other[1]);
+        for (from, n) in block_runs(len, WIDE_LANES) {
+            let run = from..from + n;
+            let w = [&mut w00[..], &mut w01[..], &mut w10[..], &mut w11[..]];
+            four_pair_run::<ROUNDS>(
+                filter,
+                run_of(own, run.clone()),
+                run_of(other, run.clone()),
+                w.map(|w| &mut w[run.clone()]),
+            );
         }
+    }
+}
+
+/// The cells `run` of the planes of both triangle types (see [`pair_weights`]).
+#[inline(always)]
+fn run_of(planes: [[&[f32]; 6]; 2], run: Range<usize>) -> [[&[f32]; 6]; 2] {
+    planes.map(|t| t.map(|c| &c[run.clone()]))
+}
+
+/// The weights of [`pair_weights`]' pass over all four pairs of types, for a run of
+/// cells: `own` and `other` are the centroid x, y, z and normal x, y, z planes of both
+/// types of the run's cells and of their neighbours at the pass's offset, `w` the run's
+/// part of the ring rows of the pairs (0, 0), (0, 1), (1, 0), (1, 1). In blocks of
+/// [`WIDE_LANES`] ([`block_runs`]): in the AVX-512 copy, a block of 16 cells is 158
+/// instructions and a cell left to the scalar loop about 230, so the up to 15 cells that
+/// ended each row were about a quarter of the pass's instructions at 424 × 240.
+#[inline(always)]
+fn four_pair_run<const ROUNDS: bool>(
+    filter: &Filter,
+    own: [[&[f32]; 6]; 2],
+    other: [[&[f32]; 6]; 2],
+    [w00, w01, w10, w11]: [&mut [f32]; 4],
+) {
+    let [
+        [pc0x, pc0y, pc0z, pn0x, pn0y, pn0z],
+        [pc1x, pc1y, pc1z, pn1x, pn1y, pn1z],
+    ] = own;
+    let [
+        [qc0x, qc0y, qc0z, qn0x, qn0y, qn0z],
+        [qc1x, qc1y, qc1z, qn1x, qn1y, qn1z],
+    ] = other;
+    for i in 0..w00.len() {
+        let own = [
+            [pc0x[i], pc0y[i], pc0z[i], pn0x[i], pn0y[i], pn0z[i]],
+            [pc1x[i], pc1y[i], pc1z[i], pn1x[i], pn1y[i], pn1z[i]],
+        ];
+        let other = [
+            [qc0x[i], qc0y[i], qc0z[i], qn0x[i], qn0y[i], qn0z[i]],
+            [qc1x[i], qc1y[i], qc1z[i], qn1x[i], qn1y[i], qn1z[i]],
+        ];
+        let weight = |a: [f32; 6], b: [f32; 6]| {
+            filter.weight::<ROUNDS>(
+                [a[0] - b[0], a[1] - b[1], a[2] - b[2]],
+                [a[3], a[4], a[5]],
+                [b[3], b[4], b[5]],
+            )
+        };
+        w00[i] = weight(own[0], other[0]);
+        w01[i] = weight(own[0], other[1]);
+        w10[i] = weight(own[1], other[0]);
+        w11[i] = weight(own[1], other[1]);
     }
 }
 
 /// Into `w`, the weights between the triangles `a` and `b`, each given as its centroid
 /// x, y, z and normal x, y, z planes from the first of `w.len()` cells on (see
-/// [`pair_weights`]). The cells past the row's last whole block of [`LANES`] are one more
-/// block, which overlaps the one before and computes its last weights again, not a loop
-/// of up to 7 cells one at a time: that took the bilateral stage of a 424 × 240 frame
-/// from 5.20–5.43 to 4.98–5.17 ms on one thread (AMD EPYC, AVX2, alternated runs).
+/// [`pair_weights`]), in blocks of [`LANES`] ([`block_runs`]): ending the row with one
+/// overlapping block instead of up to 7 cells one at a time took the bilateral stage of a
+/// 424 × 240 frame from 5.20–5.43 to 4.98–5.17 ms on one thread (AMD EPYC, AVX2,
+/// alternated runs).
 #[inline(always)]
 fn type_pair_weights<const ROUNDS: bool>(
     filter: &Filter,
@@ -825,17 +854,34 @@ fn type_pair_weights<const ROUNDS: bool>(
     b: [&[f32]; 6],
     w: &mut [f32],
 ) {
-    let len = w.len();
-    let whole = len - len % LANES;
-    type_pair_run::<ROUNDS>(filter, a, b, 0, &mut w[..whole]);
-    if whole < len {
-        let start = len.saturating_sub(LANES);
-        type_pair_run::<ROUNDS>(filter, a, b, start, &mut w[start..]);
+    for (from, n) in block_runs(w.len(), LANES) {
+        type_pair_run::<ROUNDS>(filter, a, b, from, &mut w[from..from + n]);
     }
 }
 
 /// `f32` lanes of AVX2: the blocks of [`type_pair_weights`].
 const LANES: usize = 8;
+
+/// `f32` lanes of AVX-512: the blocks of the pass of [`pair_weights`] over all four pairs
+/// of types.
+const WIDE_LANES: usize = 16;
+
+/// The two runs `(first cell, cells)` that cover a row of `len` cells in blocks of
+/// `lanes`: its whole blocks, then one block of its last `lanes` cells, which overlaps the
+/// one before (empty where the whole blocks cover the row; a row shorter than a block is
+/// that second run alone). A loop over the second run computes the weights of the overlap
+/// again, to the same bits (each depends on its own cell only), instead of ending in up
+/// to `lanes − 1` cells one at a time.
+#[inline(always)]
+fn block_runs(len: usize, lanes: usize) -> [(usize, usize); 2] {
+    let whole = len - len % lanes;
+    let last = if whole < len {
+        len.saturating_sub(lanes)
+    } else {
+        len
+    };
+    [(0, whole), (last, len - last)]
+}
 
 /// [`type_pair_weights`] of the cells `start..start + w.len()`.
 #[inline(always)]
@@ -1237,5 +1283,24 @@ mod tests {
                 );
             }
         });
+    }
+
+    #[test]
+    fn block_runs_cover_each_row_once_in_whole_blocks() {
+        for lanes in [LANES, WIDE_LANES] {
+            for len in 0..5 * lanes {
+                let [(a, n), (b, m)] = block_runs(len, lanes);
+                assert_eq!((a, n % lanes), (0, 0), "{len}, {lanes}");
+                assert_eq!(b + m, len, "{len}, {lanes}");
+                // The second run is one block (the row itself when shorter), or empty, and
+                // starts where the whole blocks end or inside their last.
+                assert_eq!(
+                    m,
+                    if n == len { 0 } else { len.min(lanes) },
+                    "{len}, {lanes}"
+                );
+                assert!(b <= n && n - b < lanes, "{len}, {lanes}");
+            }
+        }
     }
 }
