@@ -1,7 +1,9 @@
 //! Algorithm 3 of the paper: S2 id → learned-index window → branchless binary search →
 //! neighbour refinement by true angular distance.
 
-use crate::icosahedron::{Icosahedron, NO_NEIGHBOR, dot};
+use rayon::prelude::*;
+
+use crate::icosahedron::{CELLS_PER_TASK, Icosahedron, NO_NEIGHBOR, dot};
 use crate::integrate::BATCH;
 use crate::s2id;
 
@@ -98,12 +100,6 @@ impl CellSearch {
         let window = ((error_max - error_min + 1) as usize).min(ids.len());
         let last_start = (ids.len() - window) as i64;
         let normals = ico.normals();
-        let rings: Vec<[u32; 12]> = ico
-            .neighbors()
-            .iter()
-            .enumerate()
-            .map(|(i, row)| row.map(|c| if c == NO_NEIGHBOR { i as u32 } else { c }))
-            .collect();
         let triangles = ico.triangles();
         let shared = |a: usize, b: usize| {
             triangles[a]
@@ -111,35 +107,34 @@ impl CellSearch {
                 .filter(|v| triangles[b].contains(v))
                 .count()
         };
-        let mut certain = Vec::with_capacity(rings.len());
-        let mut edges = Vec::with_capacity(rings.len());
-        for (i, row) in rings.iter().enumerate() {
-            let mut edge = [i as u32; 3];
-            let mut k = 0;
-            let mut nearest = -1.0f64;
-            for &c in row.iter().filter(|&&c| c as usize != i) {
-                if shared(i, c as usize) == 2 {
-                    edge[k] = c;
-                    k += 1;
-                } else {
-                    nearest = nearest.max(dot(normals[i], normals[c as usize]));
+        // Per cell on its own, in parallel: the same cells in the same order on any pool.
+        let cells = ico
+            .neighbors()
+            .par_iter()
+            .enumerate()
+            .with_min_len(CELLS_PER_TASK)
+            .map(|(i, row)| {
+                let ring = row.map(|c| if c == NO_NEIGHBOR { i as u32 } else { c });
+                let mut edges = [i as u32; 3];
+                let mut k = 0;
+                let mut nearest = -1.0f64;
+                for &c in ring.iter().filter(|&&c| c as usize != i) {
+                    if shared(i, c as usize) == 2 {
+                        edges[k] = c;
+                        k += 1;
+                    } else {
+                        nearest = nearest.max(dot(normals[i], normals[c as usize]));
+                    }
                 }
-            }
-            debug_assert_eq!(k, 3, "a closed triangle mesh has three edge neighbours");
-            edges.push(edge);
-            // cos(θ/2) = sqrt((1 + cos θ) / 2); the margin covers rounding in the dots.
-            certain.push(((1.0 + nearest) / 2.0).sqrt() + 1e-9);
-        }
-        let cells = normals
-            .iter()
-            .zip(certain)
-            .zip(edges)
-            .zip(rings)
-            .map(|(((&normal, certain), edges), ring)| Cell {
-                normal,
-                certain,
-                edges,
-                ring,
+                debug_assert_eq!(k, 3, "a closed triangle mesh has three edge neighbours");
+                Cell {
+                    normal: normals[i],
+                    // cos(θ/2) = sqrt((1 + cos θ) / 2); the margin covers rounding in the
+                    // dots.
+                    certain: ((1.0 + nearest) / 2.0).sqrt() + 1e-9,
+                    edges,
+                    ring,
+                }
             })
             .collect();
         // Hilbert levels of the query ids (4 · steps − 2): about two finer than the cells, which

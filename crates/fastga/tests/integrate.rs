@@ -51,6 +51,34 @@ fn results_are_identical_for_any_thread_count() {
 }
 
 #[test]
+fn construction_is_identical_for_any_thread_count() {
+    // Level 5 (20,480 cells) is built in parallel tasks: the cells, their order, their
+    // neighbours and the search must not depend on the pool.
+    let queries = random_units(13, 20_000);
+    let build = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| GaussianAccumulator::new(5).unwrap())
+    };
+    let reference = build(1);
+    let ico = reference.icosahedron();
+    let cells: Vec<u32> = queries.iter().map(|&p| reference.find_cell(p)).collect();
+    for threads in 2..=4 {
+        let ga = build(threads);
+        let other = ga.icosahedron();
+        assert_eq!(other.cell_ids(), ico.cell_ids(), "{threads} threads");
+        assert_eq!(other.triangles(), ico.triangles(), "{threads} threads");
+        assert_eq!(other.normals(), ico.normals(), "{threads} threads");
+        assert_eq!(other.neighbors(), ico.neighbors(), "{threads} threads");
+        assert_eq!(ga.model_error_bounds(), reference.model_error_bounds());
+        let found: Vec<u32> = queries.iter().map(|&p| ga.find_cell(p)).collect();
+        assert_eq!(found, cells, "{threads} threads");
+    }
+}
+
+#[test]
 fn f32_input_bins_like_its_f64_conversion() {
     let normals: Vec<[f32; 3]> = random_units(12, 20_000)
         .iter()
