@@ -1,8 +1,6 @@
 //! The bilateral normal filter on the implicit right-cut mesh, `f32` planes per triangle
 //! type, a band of cell rows per task.
 
-use std::ops::Range;
-
 use opc_mesh::{OpcMesh, OrganizedPointCloud};
 use rayon::prelude::*;
 
@@ -779,28 +777,23 @@ fn pair_weights<const SEPARATE: bool, const ROUNDS: bool>(
         }
         for (from, n) in block_runs(len, WIDE_LANES) {
             let run = from..from + n;
-            let w = [&mut w00[..], &mut w01[..], &mut w10[..], &mut w11[..]];
-            four_pair_run::<ROUNDS>(
-                filter,
-                run_of(own, run.clone()),
-                run_of(other, run.clone()),
-                w.map(|w| &mut w[run.clone()]),
-            );
+            let w = [
+                &mut w00[run.clone()],
+                &mut w01[run.clone()],
+                &mut w10[run.clone()],
+                &mut w11[run],
+            ];
+            four_pair_run::<ROUNDS>(filter, own, other, from, w);
         }
     }
 }
 
-/// The cells `run` of the planes of both triangle types (see [`pair_weights`]).
-#[inline(always)]
-fn run_of(planes: [[&[f32]; 6]; 2], run: Range<usize>) -> [[&[f32]; 6]; 2] {
-    planes.map(|t| t.map(|c| &c[run.clone()]))
-}
-
-/// The weights of [`pair_weights`]' pass over all four pairs of types, for a run of
-/// cells: `own` and `other` are the centroid x, y, z and normal x, y, z planes of both
-/// types of the run's cells and of their neighbours at the pass's offset, `w` the run's
-/// part of the ring rows of the pairs (0, 0), (0, 1), (1, 0), (1, 1). In blocks of
-/// [`WIDE_LANES`] ([`block_runs`]): in the AVX-512 copy, a block of 16 cells is 158
+/// The weights of [`pair_weights`]' pass over all four pairs of types, for the cells
+/// `start..start + w[0].len()`: `own` and `other` are the centroid x, y, z and normal x,
+/// y, z planes of both types of the row's cells and of their neighbours at the pass's
+/// offset, `w` the run's part of the ring rows of the pairs (0, 0), (0, 1), (1, 0),
+/// (1, 1). In blocks of
+/// [`WIDE_LANES`] ([`block_runs`]): in the AVX-512 copy, a block of 16 cells is 154
 /// instructions and a cell left to the scalar loop about 230, so the up to 15 cells that
 /// ended each row were about a quarter of the pass's instructions at 424 × 240.
 #[inline(always)]
@@ -808,8 +801,10 @@ fn four_pair_run<const ROUNDS: bool>(
     filter: &Filter,
     own: [[&[f32]; 6]; 2],
     other: [[&[f32]; 6]; 2],
+    start: usize,
     [w00, w01, w10, w11]: [&mut [f32]; 4],
 ) {
+    let at = start..start + w00.len();
     let [
         [pc0x, pc0y, pc0z, pn0x, pn0y, pn0z],
         [pc1x, pc1y, pc1z, pn1x, pn1y, pn1z],
@@ -818,6 +813,21 @@ fn four_pair_run<const ROUNDS: bool>(
         [qc0x, qc0y, qc0z, qn0x, qn0y, qn0z],
         [qc1x, qc1y, qc1z, qn1x, qn1y, qn1z],
     ] = other;
+    // Sliced one by one, as in [`type_pair_run`]: mapped over the arrays, the slicing ran
+    // out of line, four calls a run.
+    let (pc0x, pc0y, pc0z) = (&pc0x[at.clone()], &pc0y[at.clone()], &pc0z[at.clone()]);
+    let (pn0x, pn0y, pn0z) = (&pn0x[at.clone()], &pn0y[at.clone()], &pn0z[at.clone()]);
+    let (pc1x, pc1y, pc1z) = (&pc1x[at.clone()], &pc1y[at.clone()], &pc1z[at.clone()]);
+    let (pn1x, pn1y, pn1z) = (&pn1x[at.clone()], &pn1y[at.clone()], &pn1z[at.clone()]);
+    let (qc0x, qc0y, qc0z) = (&qc0x[at.clone()], &qc0y[at.clone()], &qc0z[at.clone()]);
+    let (qn0x, qn0y, qn0z) = (&qn0x[at.clone()], &qn0y[at.clone()], &qn0z[at.clone()]);
+    let (qc1x, qc1y, qc1z) = (&qc1x[at.clone()], &qc1y[at.clone()], &qc1z[at.clone()]);
+    let (qn1x, qn1y, qn1z) = (&qn1x[at.clone()], &qn1y[at.clone()], &qn1z[at]);
+    let (w01, w10, w11) = (
+        &mut w01[..w00.len()],
+        &mut w10[..w00.len()],
+        &mut w11[..w00.len()],
+    );
     for i in 0..w00.len() {
         let own = [
             [pc0x[i], pc0y[i], pc0z[i], pn0x[i], pn0y[i], pn0z[i]],
@@ -1177,8 +1187,8 @@ mod tests {
 
     /// Cell rows, columns and kernel half-width of the grids the tests filter: every
     /// kernel that shares weights, grids narrower and wider than the kernel, and rows
-    /// shorter than, a multiple of and between multiples of [`LANES`], [`BLOCK`] and
-    /// [`WIDE_BLOCK`].
+    /// shorter than, a multiple of and between multiples of [`LANES`], [`WIDE_LANES`],
+    /// [`BLOCK`] and [`WIDE_BLOCK`].
     const GRIDS: [(usize, usize, usize); 11] = [
         (6, 29, 1),
         (9, 7, 2),
