@@ -42,7 +42,11 @@ const EXP2_POLYNOMIAL: [f32; 6] = [
 /// 2–5 % less time on a 424 × 240 frame (one thread each, run side by side). Adding `i`
 /// to the polynomial's exponent bits directly, rather than multiplying by `2^i`, made
 /// it 5 % slower (it puts an integer addition after the polynomial, on the critical
-/// path).
+/// path). The polynomial goes by Estrin's scheme, `(c₁f + c₀) + f²((c₃f + c₂) +
+/// f²(c₅f + c₄))`: three fused multiply-adds deep after `f²` instead of Horner's five in
+/// a row, for one more multiplication. The bilateral stage of a 424 × 240 frame took
+/// 4.83 instead of 4.96 ms on one thread (AMD EPYC, AVX2, medians of 6 alternated runs);
+/// the error bound is the same (test `matches_exp2`).
 ///
 /// `ROUNDS` says that the compiled copy rounds to the nearest integer in one instruction
 /// (x86-64 with SSE4.1, AArch64): `f` then comes from `t` minus its rounding, two steps
@@ -59,8 +63,10 @@ pub(crate) fn exp2_nonpositive<const ROUNDS: bool>(t: f32) -> f32 {
     } else {
         shifted - ROUND_MAGIC
     };
-    let [first, rest @ ..] = EXP2_POLYNOMIAL;
-    let p = rest.into_iter().fold(first, |p, c| fma(p, f, c));
+    let [c5, c4, c3, c2, c1, c0] = EXP2_POLYNOMIAL;
+    let f2 = f * f;
+    // Estrin's scheme: the three inner multiply-adds do not wait for each other.
+    let p = fma(fma(fma(c5, f, c4), f2, fma(c3, f, c2)), f2, fma(c1, f, c0));
     let scale = f32::from_bits((i.wrapping_add(127) as u32) << 23);
     if t >= -EXP2_CUTOFF { p * scale } else { 0.0 }
 }
