@@ -792,10 +792,10 @@ fn pair_weights<const SEPARATE: bool, const ROUNDS: bool>(
 /// `start..start + w[0].len()`: `own` and `other` are the centroid x, y, z and normal x,
 /// y, z planes of both types of the row's cells and of their neighbours at the pass's
 /// offset, `w` the run's part of the ring rows of the pairs (0, 0), (0, 1), (1, 0),
-/// (1, 1). In blocks of
-/// [`WIDE_LANES`] ([`block_runs`]): in the AVX-512 copy, a block of 16 cells is 154
-/// instructions and a cell left to the scalar loop about 230, so the up to 15 cells that
-/// ended each row were about a quarter of the pass's instructions at 424 × 240.
+/// (1, 1). In blocks of [`WIDE_LANES`] ([`block_runs`]): in the AVX-512 copy, a block of
+/// 16 cells is 154 instructions and a cell left to the scalar loop about 230, so the up
+/// to 15 cells that ended each row were about a quarter of the pass's instructions at
+/// 424 × 240.
 #[inline(always)]
 fn four_pair_run<const ROUNDS: bool>(
     filter: &Filter,
@@ -881,7 +881,9 @@ const WIDE_LANES: usize = 16;
 /// one before (empty where the whole blocks cover the row; a row shorter than a block is
 /// that second run alone). A loop over the second run computes the weights of the overlap
 /// again, to the same bits (each depends on its own cell only), instead of ending in up
-/// to `lanes − 1` cells one at a time.
+/// to `lanes − 1` cells one at a time. The sums of [`output_row`] end their rows by the
+/// same rule ([`row_in_blocks`], which calls a block of fixed width where these runs are
+/// loops the compiler vectorises).
 #[inline(always)]
 fn block_runs(len: usize, lanes: usize) -> [(usize, usize); 2] {
     let whole = len - len % lanes;
