@@ -86,7 +86,8 @@ pub fn segment(
 }
 
 /// [`segment`] with its working memory (per triangle a 16-byte slot with its label,
-/// offset and volume term and a "taken" byte; per group the seed lists) kept across
+/// offset and volume term, a "taken" byte and refinement's segment label; per group the
+/// seed lists) kept across
 /// calls, for segmenting a stream of frames: fresh memory costs page faults on every
 /// call. Results do not depend on what ran before.
 ///
@@ -109,6 +110,8 @@ pub fn segment(
 #[derive(Debug, Default)]
 pub struct Segmenter {
     assignment: Assignment,
+    /// Refinement's segment label per triangle.
+    labels: Vec<u32>,
 }
 
 impl Segmenter {
@@ -128,16 +131,24 @@ impl Segmenter {
         config: &SegmentationConfig,
     ) -> Result<Segmentation, SegmentError> {
         self.assignment.assign(mesh, dominant, config)?;
-        grow_all(mesh, dominant.len(), config, &self.assignment)
+        grow_all(
+            mesh,
+            dominant.len(),
+            config,
+            &self.assignment,
+            &mut self.labels,
+        )
     }
 }
 
-/// Region growing and polygon extraction after group assignment.
+/// Region growing and polygon extraction after group assignment; `labels` is
+/// refinement's buffer.
 fn grow_all(
     mesh: &HalfEdgeMesh,
     num_groups: usize,
     config: &SegmentationConfig,
     assignment: &Assignment,
+    labels: &mut Vec<u32>,
 ) -> Result<Segmentation, SegmentError> {
     let Assignment {
         slots,
@@ -224,7 +235,7 @@ fn grow_all(
         // Growth order depends on the threads; refinement must not.
         // The key reads every triangle of a region: computed once per region.
         regions.sort_by_cached_key(|r| (r.group, r.triangles.iter().min().copied()));
-        let refined = crate::refine::refine(mesh, regions, config);
+        let refined = crate::refine::refine(mesh, regions, config, labels);
         counts.absorbed = refined.absorbed;
         counts.free_planes = refined.free_planes;
         counts.merged = refined.merged;

@@ -357,20 +357,22 @@ impl Mesh<'_> {
 
 /// Refines the segments grown by dominant normal (`grown`: group and triangles, each of
 /// at least `min_triangles`): absorption, free-plane growth, merging (see the module
-/// docs). Segments below `min_triangles` and `min_area` afterwards are dropped.
+/// docs). Segments below `min_triangles` and `min_area` afterwards are dropped. `labels`
+/// is the buffer of the triangles' segment labels, overwritten.
 pub(crate) fn refine(
     mesh: &HalfEdgeMesh,
     grown: Vec<Grown>,
     config: &SegmentationConfig,
+    labels: &mut Vec<u32>,
 ) -> Refined {
     let Some(normals) = mesh.triangle_normals() else {
-        let labels = labels_of(&grown, mesh.num_triangles());
+        labels_of(&grown, mesh.num_triangles(), labels);
         let all: Vec<u32> = grown
             .iter()
             .flat_map(|g| g.triangles.iter().copied())
             .collect();
         return Refined {
-            boundaries: boundaries(mesh.halfedges(), &labels, &all, grown.len()),
+            boundaries: boundaries(mesh.halfedges(), labels, &all, grown.len()),
             planes: grown
                 .iter()
                 .map(|g| crate::geometric_plane(mesh, &g.triangles))
@@ -399,15 +401,16 @@ pub(crate) fn refine(
         },
         norm_thresh: config.norm_thresh,
     };
-    let mut labels = labels_of(&grown, mesh.num_triangles());
-    let survey = Survey::of(&m, &labels, grown.len());
+    labels_of(&grown, mesh.num_triangles(), labels);
+    let labels = labels.as_mut_slice();
+    let survey = Survey::of(&m, labels, grown.len());
     let grown_planes: Vec<Option<Plane>> = survey.sums.iter().map(PlaneSums::plane).collect();
     let seeds = survey.edges;
     let mut segments: Vec<(u32, Vec<u32>)> =
         grown.into_iter().map(|g| (g.group, g.triangles)).collect();
     let mut absorbed = absorb(
         &m,
-        &mut labels,
+        labels,
         &mut segments,
         &grown_planes,
         seeds,
@@ -420,27 +423,20 @@ pub(crate) fn refine(
     };
     // Absorption from the new segments reads only their planes.
     let mut planes = grown_planes;
-    planes.extend(grow_free(&m, &mut labels, &mut segments, &big_enough));
+    planes.extend(grow_free(&m, labels, &mut segments, &big_enough));
     let free_planes = segments.len() - first_new;
     let seeds = segments[first_new..]
         .iter()
         .flat_map(|(_, tris)| tris.iter().copied())
         .collect();
-    absorbed += absorb(
-        &m,
-        &mut labels,
-        &mut segments,
-        &planes,
-        seeds,
-        PARALLEL_LEVEL,
-    );
+    absorbed += absorb(&m, labels, &mut segments, &planes, seeds, PARALLEL_LEVEL);
     let before = segments.len();
     let Merged {
         segments,
         sums,
         interior: inside,
         edges,
-    } = merge(&m, &mut labels, segments);
+    } = merge(&m, labels, segments);
     let merged = before - segments.len();
     let kept: Vec<bool> = segments
         .iter()
@@ -466,8 +462,8 @@ pub(crate) fn refine(
             kept_segments.push(segment);
         }
     }
-    relabel(&mut labels, &index);
-    let boundaries = boundaries(m.twins, &labels, &edges, kept_segments.len());
+    relabel(labels, &index);
+    let boundaries = boundaries(m.twins, labels, &edges, kept_segments.len());
     let kept_sums: Vec<PlaneSums> = sums
         .into_iter()
         .zip(&kept)
@@ -485,15 +481,16 @@ pub(crate) fn refine(
     }
 }
 
-/// Per triangle (of `n`), the index of the grown segment it is in, or [`NONE`].
-fn labels_of(grown: &[Grown], n: usize) -> Vec<u32> {
-    let mut labels = vec![NONE; n];
+/// Per triangle (of `n`), the index of the grown segment it is in, or [`NONE`], into
+/// `labels`.
+fn labels_of(grown: &[Grown], n: usize, labels: &mut Vec<u32>) {
+    labels.clear();
+    labels.resize(n, NONE);
     for (s, g) in grown.iter().enumerate() {
         for &t in &g.triangles {
             labels[t as usize] = s as u32;
         }
     }
-    labels
 }
 
 /// The boundary half-edges of segments `0..count` (twin in another segment, free or

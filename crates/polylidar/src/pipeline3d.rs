@@ -117,16 +117,21 @@ impl Polylidar {
             };
             let (mut decimated, decimation) = decimated.unzip();
             // The cloud the filters read (they take an owned cloud): the decimated one,
-            // which they then change in place, the caller's, or a copy of a borrowed one;
-            // `None` without smoothing, meshing the input itself.
+            // which they then change in place; the caller's cloud, unless missing returns
+            // are to be filled in; else a copy of the caller's cloud or view in the
+            // recycled mesh's vertex buffer, whose points become the next mesh's
+            // vertices. `None` without smoothing or filling, meshing the input itself.
             let mut cloud: Option<Cow<'_, OrganizedPointCloud>> = (config.laplacian.is_some()
                 || config.bilateral.is_some()
                 || config.fill_missing.is_some())
-            .then(|| match (decimated.take(), owned) {
-                (Some(small), _) => Cow::Owned(small),
-                (None, Some(c)) => Cow::Borrowed(c),
-                (None, None) => Cow::Owned(input.to_cloud()),
-            });
+            .then(|| {
+                Ok::<_, PolylidarError>(match (decimated.take(), owned) {
+                    (Some(small), _) => Cow::Owned(small),
+                    (None, Some(c)) if config.fill_missing.is_none() => Cow::Borrowed(c),
+                    _ => Cow::Owned(reuse.copy_of(input)?),
+                })
+            })
+            .transpose()?;
             // What is meshed without filters.
             let input = decimated.as_ref().map_or(input, OrganizedPointCloud::view);
             let mut filled = Vec::new();

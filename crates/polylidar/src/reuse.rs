@@ -10,7 +10,7 @@ use halfedge_mesh::HalfEdgeMesh;
 use mesh_smooth_gpu::{
     BilateralOptions, CpuSmoother, GpuSmoother, LaplacianOptions, SmoothError, Smoother,
 };
-use opc_mesh::{OpcMesh, OrganizedPointCloud, TriangleMap};
+use opc_mesh::{OpcError, OpcMesh, OrganizedPointCloud, OrganizedPointCloudView, TriangleMap};
 use planeseg::Segmenter;
 
 use crate::SmoothingBackend;
@@ -148,6 +148,19 @@ impl Organized {
             normals,
         ));
         vertices
+    }
+
+    /// A copy of `view` in the recycled mesh's vertex buffer ([`Self::take_recycled_vertices`]),
+    /// so that a stream of frames copies each into the memory of the one before instead of
+    /// allocating (and the kernel zeroing) a frame's worth of new pages.
+    pub fn copy_of(
+        &mut self,
+        view: OrganizedPointCloudView<'_>,
+    ) -> Result<OrganizedPointCloud, OpcError> {
+        let mut points = self.take_recycled_vertices();
+        points.clear();
+        points.extend_from_slice(view.points());
+        OrganizedPointCloud::new(view.rows(), view.cols(), points)
     }
 
     /// The kept smoother of `backend`, created on its first use.

@@ -4,7 +4,8 @@
 
 use polylidar::{
     BilateralConfig, Config, DecimateConfig, DecimateFactor, DominantNormalsConfig,
-    ExtractedPolygon, Extraction, LaplacianConfig, OrganizedPointCloud, Polylidar, PolylidarError,
+    ExtractedPolygon, Extraction, FillConfig, LaplacianConfig, OrganizedPointCloud, Polylidar,
+    PolylidarError,
 };
 use synthscan::{
     FLOOR_LABEL, Noise, PinholeCamera, Pose, RampsConfig, RoomConfig, ScanResult, Scene,
@@ -461,7 +462,8 @@ fn concurrent_runs_on_one_pipeline_all_finish() {
 
 /// Frames meshed into a recycled extraction's arrays (and the previous triangle map)
 /// give the extraction of a fresh run, through a stream whose shape changes (the arrays
-/// grow and shrink), with both filters on and without them.
+/// grow and shrink), with both filters on and without them, with missing returns filled
+/// (a copy of the caller's cloud) and from a view of the frame (a copy too).
 #[test]
 fn recycled_extractions_give_the_results_of_fresh_runs() {
     let scene = Scene::room(&RoomConfig::default()).expect("room");
@@ -486,14 +488,30 @@ fn recycled_extractions_give_the_results_of_fresh_runs() {
     let decimated = smoothed.clone().with_decimate(Some(
         DecimateConfig::default().with_factor(DecimateFactor::Fixed(2)),
     ));
-    for config in [config(), smoothed, decimated] {
+    let filled = smoothed
+        .clone()
+        .with_fill_missing(Some(FillConfig::default()));
+    let runs = [
+        (config(), false),
+        (smoothed.clone(), false),
+        (smoothed, true),
+        (decimated, false),
+        (filled.clone(), false),
+        (filled, true),
+    ];
+    for (config, view) in runs {
         let recycling = Polylidar::new(config.clone()).expect("config");
+        let extract = |p: &Polylidar, cloud: &OrganizedPointCloud| {
+            if view {
+                p.extract_organized_view(cloud.view())
+            } else {
+                p.extract_organized(cloud)
+            }
+            .expect("extraction")
+        };
         for cloud in &frames {
-            let fresh = Polylidar::new(config.clone())
-                .expect("config")
-                .extract_organized(cloud)
-                .expect("extraction");
-            let got = recycling.extract_organized(cloud).expect("extraction");
+            let fresh = extract(&Polylidar::new(config.clone()).expect("config"), cloud);
+            let got = extract(&recycling, cloud);
             assert_eq!(got.mesh, fresh.mesh);
             assert_eq!(got.polygons, fresh.polygons);
             assert_eq!(got.dominant_normals, fresh.dominant_normals);
@@ -501,14 +519,15 @@ fn recycled_extractions_give_the_results_of_fresh_runs() {
             recycling.recycle(got);
         }
         // A frame of the last one's size: its normals refill the recycled allocation,
-        // and so do its points, which become the mesh's vertices: copied, smoothed from
-        // the caller's cloud, or decimated.
+        // and so do its points, which become the mesh's vertices: copied (to fill
+        // missing returns in, or from a view), smoothed from the caller's cloud, or
+        // decimated.
         let normals_at = |e: &polylidar::Extraction| e.mesh.triangle_normals().map(<[_]>::as_ptr);
         let vertices_at = |e: &polylidar::Extraction| e.mesh.vertices().as_ptr();
-        let again = recycling.extract_organized(&frames[0]).expect("extraction");
+        let again = extract(&recycling, &frames[0]);
         let before = (normals_at(&again), vertices_at(&again));
         recycling.recycle(again);
-        let again = recycling.extract_organized(&frames[0]).expect("extraction");
+        let again = extract(&recycling, &frames[0]);
         assert!(before.0.is_some());
         assert_eq!(normals_at(&again), before.0);
         assert_eq!(vertices_at(&again), before.1);
