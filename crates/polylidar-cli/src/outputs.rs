@@ -234,7 +234,7 @@ fn inode(_: &Path) -> Option<(u64, u64)> {
 mod tests {
     use super::*;
 
-    fn scratch(name: &str) -> std::path::PathBuf {
+    fn scratch(name: &str) -> test_fixtures::ScratchDir {
         test_fixtures::scratch_dir("polylidar-cli-outputs", name)
     }
 

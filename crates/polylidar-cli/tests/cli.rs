@@ -7,7 +7,7 @@ use std::path::PathBuf;
 
 use common::{json, polylidar};
 
-fn scratch(name: &str) -> PathBuf {
+fn scratch(name: &str) -> test_fixtures::ScratchDir {
     common::scratch("cli", name)
 }
 

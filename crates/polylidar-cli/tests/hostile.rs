@@ -11,17 +11,8 @@ use std::process::Output;
 
 use common::{json, polylidar};
 
-fn scratch(name: &str) -> PathBuf {
-    let dir = common::scratch("hostile", name);
-    for entry in std::fs::read_dir(&dir).unwrap() {
-        let path = entry.unwrap().path();
-        if path.is_dir() {
-            std::fs::remove_dir_all(&path).unwrap();
-        } else {
-            std::fs::remove_file(&path).unwrap();
-        }
-    }
-    dir
+fn scratch(name: &str) -> test_fixtures::ScratchDir {
+    common::scratch("hostile", name)
 }
 
 /// A 20 × 20 grid of 2D points as CSV.

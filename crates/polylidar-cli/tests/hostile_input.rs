@@ -9,7 +9,7 @@ mod common;
 
 use common::{json, polylidar};
 
-fn scratch(name: &str) -> std::path::PathBuf {
+fn scratch(name: &str) -> test_fixtures::ScratchDir {
     common::scratch("hostile", name)
 }
 

@@ -8,7 +8,7 @@ use std::path::PathBuf;
 
 use common::{polylidar_in as polylidar, succeeded};
 
-fn temp_dir(name: &str) -> PathBuf {
+fn temp_dir(name: &str) -> test_fixtures::ScratchDir {
     common::scratch("mesh", name)
 }
 

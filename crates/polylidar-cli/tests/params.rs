@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 
 use common::{json, polylidar};
 
-fn scratch(name: &str) -> PathBuf {
+fn scratch(name: &str) -> test_fixtures::ScratchDir {
     common::scratch("params", name)
 }
 

@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use common::{polylidar_in as polylidar, succeeded};
 use serde_json::Value;
 
-fn temp_dir(name: &str) -> PathBuf {
+fn temp_dir(name: &str) -> test_fixtures::ScratchDir {
     common::scratch("stream", name)
 }
 

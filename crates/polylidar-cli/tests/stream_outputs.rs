@@ -6,17 +6,14 @@
 
 mod common;
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Output;
 
 use common::{json, polylidar};
 
 /// A fresh, empty folder.
-fn scratch(name: &str) -> PathBuf {
-    let dir = common::scratch("stream-outputs", name);
-    std::fs::remove_dir_all(&dir).unwrap();
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+fn scratch(name: &str) -> test_fixtures::ScratchDir {
+    common::scratch("stream-outputs", name)
 }
 
 /// Writes `count` organized clouds `frames/f_K.npy` (a 24 × 24 tilted plane each) into

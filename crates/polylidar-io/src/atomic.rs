@@ -334,7 +334,7 @@ fn sync_directory(target: &Path) {
 mod tests {
     use super::*;
 
-    fn scratch(name: &str) -> std::path::PathBuf {
+    fn scratch(name: &str) -> test_fixtures::ScratchDir {
         test_fixtures::scratch_dir("polylidar-io-atomic", name)
     }
 

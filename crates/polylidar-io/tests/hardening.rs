@@ -17,10 +17,10 @@ fn over_budget(kind: &ErrorKind) -> bool {
     matches!(kind, ErrorKind::OverBudget { .. })
 }
 
-fn scratch(name: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("polylidar-io-hardening-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
+fn scratch(name: &str) -> (test_fixtures::ScratchDir, std::path::PathBuf) {
+    let dir = test_fixtures::scratch_dir("polylidar-io-hardening", name);
+    let path = dir.join(name);
+    (dir, path)
 }
 
 /// A 16-bit greyscale PNG of `width × height` pixels of constant depth: tens of
@@ -68,7 +68,7 @@ fn the_default_budget_scales_with_the_input_size() {
     assert!(parse_depth_png_with(&bytes, &Limits::default()).is_ok());
     assert!(parse_depth_png_with(&bytes, &Limits::for_input_size(2 << 20)).is_ok());
     // The same through a file read by path.
-    let path = scratch("scaled_800.png");
+    let (_dir, path) = scratch("scaled_800.png");
     std::fs::write(&path, &bytes).unwrap();
     let e = polylidar_io::read_depth_png(&path).unwrap_err();
     assert!(over_budget(&e.kind), "{e}");
@@ -150,7 +150,7 @@ fn the_budget_is_settable_and_counts_the_pipeline() {
 
 #[test]
 fn files_past_the_budget_are_not_read() {
-    let path = scratch("big.csv");
+    let (_dir, path) = scratch("big.csv");
     std::fs::write(&path, "1,2,3\n".repeat(10_000)).unwrap();
     let tiny = Limits::default().with_max_memory(1000);
     let e = read_pcd_with(&path, &tiny).unwrap_err();
@@ -175,7 +175,7 @@ fn endless_streams_stop_at_the_budget() {
 
 #[test]
 fn nan_points_of_unorganized_pcd_are_skipped_and_counted() {
-    let path = scratch("nan.pcd");
+    let (_dir, path) = scratch("nan.pcd");
     let mut points = vec![[0.0, 0.0, 1.0], [1.0, 0.0, 1.0], [0.0, 1.0, 1.0]];
     points.insert(1, [f64::NAN; 3]);
     points.push([f64::NAN, 0.0, 0.0]);

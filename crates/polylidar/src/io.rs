@@ -284,7 +284,7 @@ mod tests {
     use super::*;
     use crate::Config;
 
-    fn scratch(name: &str) -> std::path::PathBuf {
+    fn scratch(name: &str) -> test_fixtures::ScratchDir {
         test_fixtures::scratch_dir("polylidar-io-writers", name)
     }
 

@@ -4,7 +4,7 @@
 #![cfg(feature = "io")]
 #![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use polylidar::io::{CameraSource, DepthCamera, Input, Limits, is_missing_intrinsics};
 use polylidar::{Intrinsics, OrganizedPointCloud};
@@ -42,10 +42,8 @@ fn assert_same(cloud: &OrganizedPointCloud, expected: &[[f64; 3]], what: &str) {
 }
 
 /// A fresh temporary folder for one test.
-fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("polylidar-cameras-{}-{name}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+fn temp_dir(name: &str) -> test_fixtures::ScratchDir {
+    test_fixtures::scratch_dir("polylidar-cameras", name)
 }
 
 /// A RealSense Viewer metadata CSV with the PrimeSense intrinsics.

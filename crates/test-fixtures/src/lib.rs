@@ -139,7 +139,20 @@ pub fn grid_triangles(n: usize) -> Vec<[u32; 3]> {
 }
 
 /// A fresh, empty directory `<temp>/<prefix>-<process id>-<name>` for a test's files
-/// (emptied first if an earlier run left it).
+/// (emptied first if an earlier run left it), removed with everything in it when the
+/// returned guard is dropped: keep it bound (`let dir = scratch_dir(…)`) while the test
+/// uses the directory. A test that fails keeps nothing either: the guard is dropped while
+/// the panic unwinds.
+///
+/// ```
+/// let path = {
+///     let dir = test_fixtures::scratch_dir("test-fixtures-doc", "guard");
+///     std::fs::write(dir.join("a.txt"), "a").unwrap();
+///     assert!(dir.join("a.txt").is_file());
+///     dir.to_path_buf()
+/// };
+/// assert!(!path.exists());
+/// ```
 ///
 /// # Panics
 /// When the directory cannot be created.
@@ -147,11 +160,37 @@ pub fn grid_triangles(n: usize) -> Vec<[u32; 3]> {
     clippy::expect_used,
     reason = "a test helper: a test fails loudly here"
 )]
-pub fn scratch_dir(prefix: &str, name: &str) -> PathBuf {
+pub fn scratch_dir(prefix: &str, name: &str) -> ScratchDir {
     let dir = std::env::temp_dir().join(format!("{prefix}-{}-{name}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).expect("a scratch directory under the temporary directory");
-    dir
+    ScratchDir(dir)
+}
+
+/// A test's scratch directory from [`scratch_dir`]; dropping it removes the directory.
+#[derive(Debug)]
+pub struct ScratchDir(PathBuf);
+
+impl std::ops::Deref for ScratchDir {
+    type Target = Path;
+
+    fn deref(&self) -> &Path {
+        &self.0
+    }
+}
+
+impl AsRef<Path> for ScratchDir {
+    fn as_ref(&self) -> &Path {
+        &self.0
+    }
+}
+
+impl Drop for ScratchDir {
+    fn drop(&mut self) {
+        // Best effort: a file still open elsewhere must not turn a passing test into a
+        // failing one.
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
 }
 
 /// The names of the entries of `dir`, sorted (to check that a write left no temporary

@@ -4,8 +4,10 @@
 // Each test file uses some of these helpers, none all of them.
 #![allow(dead_code)]
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Output};
+
+use test_fixtures::ScratchDir;
 
 /// Runs the binary with `args`.
 pub fn polylidar(args: &[&str]) -> Output {
@@ -31,11 +33,10 @@ pub fn succeeded(output: &Output) -> String {
     stderr
 }
 
-/// A fresh folder for one test's files (`tag` names the test file, `name` the test).
-pub fn scratch(tag: &str, name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("polylidar-{tag}-{}-{name}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+/// A fresh, empty folder for one test's files (`tag` names the test file, `name` the
+/// test), removed when the returned guard is dropped.
+pub fn scratch(tag: &str, name: &str) -> ScratchDir {
+    test_fixtures::scratch_dir(&format!("polylidar-{tag}"), name)
 }
 
 /// The one JSON object a successful run printed on stdout.

@@ -176,12 +176,6 @@ pub fn read_las_bounds(path: impl AsRef<Path>) -> Result<([f64; 3], [f64; 3], u6
 mod tests {
     use super::*;
 
-    fn temp(name: &str) -> std::path::PathBuf {
-        let dir = std::env::temp_dir().join(format!("las-write-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        dir.join(name)
-    }
-
     #[test]
     fn round_trips_las_and_laz_at_the_scale() {
         let points: Vec<[f64; 3]> = (0..5000)
@@ -196,8 +190,9 @@ mod tests {
             .collect();
         let classes: Vec<u8> = (0..5000).map(|i| [1, 2, 5, 6][i % 4]).collect();
         let sources: Vec<u16> = (0..5000).map(|i| (i * 7 % 65536) as u16).collect();
+        let dir = test_fixtures::scratch_dir("las-write", "round-trip");
         for name in ["a.las", "a.laz"] {
-            let path = temp(name);
+            let path = dir.join(name);
             write_las(
                 &path,
                 &points,
@@ -217,14 +212,15 @@ mod tests {
             assert_eq!(n, 5000);
             assert!((min[0] - 636_000.0).abs() < 1e-3 && (max[1] - 849_000.0).abs() < 1e-3);
         }
-        let las = std::fs::metadata(temp("a.las")).unwrap().len();
-        let laz = std::fs::metadata(temp("a.laz")).unwrap().len();
+        let las = std::fs::metadata(dir.join("a.las")).unwrap().len();
+        let laz = std::fs::metadata(dir.join("a.laz")).unwrap().len();
         assert!(laz < las / 2, "{laz} vs {las}");
     }
 
     #[test]
     fn refuses_what_it_cannot_store() {
-        let path = temp("bad.las");
+        let dir = test_fixtures::scratch_dir("las-write", "refused");
+        let path = dir.join("bad.las");
         let o = LasWriteOptions::default();
         assert!(write_las(&path, &[[f64::NAN, 0.0, 0.0]], &[], &[], &o).is_err());
         assert!(write_las(&path, &[[0.0; 3]], &[1, 2], &[], &o).is_err());
@@ -232,7 +228,7 @@ mod tests {
         assert!(write_las(&path, &[[0.0; 3], [1e8, 0.0, 0.0]], &[], &[], &o).is_err());
         let zero = LasWriteOptions { scale: 0.0, ..o };
         assert!(write_las(&path, &[[0.0; 3]], &[], &[], &zero).is_err());
-        assert!(read_las_bounds(temp("missing.las")).is_err());
+        assert!(read_las_bounds(dir.join("missing.las")).is_err());
         write_las(&path, &[], &[], &[], &o).unwrap();
         assert!(crate::read_las(&path).unwrap().points.is_empty());
     }
