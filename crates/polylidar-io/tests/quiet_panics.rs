@@ -61,9 +61,13 @@ fn corrupt_laz_is_an_error_without_panic_output() {
     }
     let _ = std::panic::take_hook();
     assert_eq!(HOOK_CALLS.load(Ordering::SeqCst), 0);
-    // Two of these inputs made laz 0.13 panic when this test was written.
-    assert!(
-        decoder_failures > 0,
-        "no input reached the decoder's panics"
-    );
+    // Two of these inputs made laz 0.13 panic when this test was written, on a debug
+    // assertion of its decoder (`sym < …`). Builds without debug assertions (`cargo test
+    // --release`) leave it out, and the same inputs end in the reader's other errors.
+    if cfg!(debug_assertions) {
+        assert!(
+            decoder_failures > 0,
+            "no input reached the decoder's panics"
+        );
+    }
 }
