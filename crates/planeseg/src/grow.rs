@@ -87,9 +87,8 @@ pub fn segment(
 
 /// [`segment`] with its working memory (per triangle a 16-byte slot with its label,
 /// offset and volume term, a "taken" byte and refinement's segment label; per group the
-/// seed lists) kept across
-/// calls, for segmenting a stream of frames: fresh memory costs page faults on every
-/// call. Results do not depend on what ran before.
+/// seed lists) kept across calls, for segmenting a stream of frames: fresh memory costs
+/// page faults on every call. Results do not depend on what ran before.
 ///
 /// ```
 /// use halfedge_mesh::HalfEdgeMesh;
