@@ -1,5 +1,7 @@
 //! The Laplacian vertex filter on `f32` planes, a band of image rows per task.
 
+use std::ops::Range;
+
 use opc_mesh::OrganizedPointCloud;
 use rayon::prelude::*;
 
@@ -19,6 +21,9 @@ pub(crate) struct LaplacianWork {
     output: Option<bool>,
     /// The valid points of the cloud the last run filtered.
     valid_points: usize,
+    /// With per-pixel pass counts, the largest count of each block of [`SKIP_COLUMNS`]
+    /// columns of each row (see [`Limits`]).
+    block_limits: Vec<u8>,
 }
 
 impl LaplacianWork {
@@ -175,12 +180,16 @@ fn filter<'a>(
         return None;
     }
     work.output = Some(iterations % 2 == 1);
-    // The largest count per row: rows whose pixels are all done are copied.
-    let row_limits: Vec<u8> = limits.map_or_else(Vec::new, |p| {
-        p.chunks_exact(cols)
-            .map(|row| row.iter().copied().max().unwrap_or(0))
-            .collect()
-    });
+    let blocks = cols.div_ceil(SKIP_COLUMNS);
+    if let Some(p) = limits {
+        work.block_limits.clear();
+        work.block_limits.extend(
+            p.chunks_exact(cols)
+                .flat_map(|row| row.chunks(SKIP_COLUMNS))
+                .map(|block| block.iter().copied().max().unwrap_or(0)),
+        );
+    }
+    let block_limits = &work.block_limits;
     work.planes.resize(cloud.points().len());
     let [x, y, z, m, nx, ny, nz, weight_sums] = work.planes.planes_mut();
     work.valid_points = fill_planes(cloud.points(), cols, parallel, [x, y, z, m]);
@@ -214,7 +223,8 @@ fn filter<'a>(
         };
         let limits = limits.map(|per_pixel| Limits {
             per_pixel,
-            per_row: &row_limits,
+            per_block: block_limits,
+            blocks,
             pass: pass as u8,
         });
         let [nx, ny, nz] = &mut next;
@@ -270,15 +280,55 @@ struct Grid {
 /// 0.24.
 const BAND_ROWS: usize = 8;
 
+/// Columns per block of [`Limits::per_block`]. Far pixels take more passes than near
+/// ones, and in a depth frame they rarely fill a row: on the TUM frame with `rgbd-auto`
+/// (passes 1–16), computing only the blocks of 32 columns that hold a pixel still taking
+/// passes, and not the whole row as soon as it holds one, leaves 1.21 instead of 2.07
+/// million pixel passes to compute (1.03 million are needed; blocks of 16 columns leave
+/// 1.14, of 64 1.29), and took the Laplacian stage from 56 to 32 ms on one thread (AMD
+/// EPYC, AVX2).
+const SKIP_COLUMNS: usize = 32;
+
 /// Which pixels a pass filters when their passes are counted per pixel.
 #[derive(Clone, Copy)]
 struct Limits<'a> {
     /// Passes per pixel.
     per_pixel: &'a [u8],
-    /// The largest count per row: rows whose pixels are all done are copied.
-    per_row: &'a [u8],
+    /// Per row, the largest count of each block of [`SKIP_COLUMNS`] columns, `blocks` a
+    /// row: the pass computes the blocks whose pixels are not all done and copies the
+    /// others.
+    per_block: &'a [u8],
+    blocks: usize,
     /// The pass running.
     pass: u8,
+}
+
+impl Limits<'_> {
+    /// Whether some pixel of block `b` of row `r` takes this pass.
+    #[inline]
+    fn active(&self, r: usize, b: usize) -> bool {
+        self.per_block[r * self.blocks + b] > self.pass
+    }
+
+    /// The column ranges of the runs of consecutive blocks for which `active(b)` holds,
+    /// in a row of `cols` columns.
+    fn runs(
+        &self,
+        cols: usize,
+        active: impl Fn(usize) -> bool,
+    ) -> impl Iterator<Item = Range<usize>> {
+        let mut b = 0;
+        std::iter::from_fn(move || {
+            while b < self.blocks && !active(b) {
+                b += 1;
+            }
+            let first = b;
+            while b < self.blocks && active(b) {
+                b += 1;
+            }
+            (first < b).then(|| first * SKIP_COLUMNS..(b * SKIP_COLUMNS).min(cols))
+        })
+    }
 }
 
 /// The grid, the kernel's offsets and where the ring keeps the inverse distances.
@@ -314,6 +364,11 @@ impl Stencil {
 /// `m / (d + ε)` is then `m · (1 / (d + ε))`, the same number for a mask `m` of 0 or 1,
 /// and the sums run over the neighbours in raster order: the bits of [`direct_row`],
 /// which kernels too large for the ring use.
+///
+/// With per-pixel counts (`limits`) a row's blocks whose pixels are all done keep their
+/// points and last weight sums, and the ring holds the inverse distances of the columns
+/// that the active blocks of its row and the `half` rows below it read: each pixel's
+/// result is the same bits as where every block is computed.
 #[multiversion::multiversion(targets("x86_64+avx512f+avx512vl+avx512bw+avx512dq", "x86_64+avx2"))]
 fn rows_of_band(
     stencil: &Stencil,
@@ -330,55 +385,69 @@ fn rows_of_band(
     let Band { start, first } = band;
     let last = first + sums.len() / cols;
     let shared = stencil.offsets.shares_pairs();
+    // 32 vector registers (AVX-512) or 16 (AVX2), fixed in each compiled copy: see
+    // [`BLOCK`].
+    const POINTS: usize = if multiversion::target::target_cfg_f!(target_feature = "avx512f") {
+        WIDE_BLOCK
+    } else {
+        BLOCK
+    };
     let [ox, oy, oz] = out;
     for r in start..last {
         // Rows within `half` of the bottom are nobody's backward neighbours.
         if shared && r + half < rows {
-            pair_inverses(stencil, r, src, ring);
+            match limits {
+                None => pair_inverses(stencil, r, src, ring, 0..cols),
+                Some(limits) => {
+                    // A point reads its pairs with the points up to `half` columns away.
+                    let readers = |b| (r..=r + half).any(|k| limits.active(k, b));
+                    for run in limits.runs(cols, readers) {
+                        let columns = run.start.saturating_sub(half)..(run.end + half).min(cols);
+                        pair_inverses(stencil, r, src, ring, columns);
+                    }
+                }
+            }
         }
         if r < first {
             continue;
         }
         let at = (r - first) * cols..(r - first + 1) * cols;
-        let (ox, oy, oz) = (
+        let mut row_out = [
             &mut ox[at.clone()],
             &mut oy[at.clone()],
             &mut oz[at.clone()],
-        );
+        ];
         let ow = &mut sums[at];
-        let span = r * cols..(r + 1) * cols;
-        if let Some(limits) = limits
-            && limits.per_row[r] <= limits.pass
-        {
-            // Every pixel of the row is done: it keeps its last weight sum.
-            ox.copy_from_slice(&src.x[span.clone()]);
-            oy.copy_from_slice(&src.y[span.clone()]);
-            oz.copy_from_slice(&src.z[span]);
+        if !copy_borders(&stencil.grid, r, src, &mut row_out, ow) {
             continue;
         }
-        // (Called, not taken as a function pointer: only inlined into this function
-        // does it get its target features.)
-        let row_out = [&mut *ox, &mut *oy, &mut *oz];
-        // 32 vector registers (AVX-512) or 16 (AVX2), fixed in each compiled copy: see
-        // [`BLOCK`].
-        const POINTS: usize = if multiversion::target::target_cfg_f!(target_feature = "avx512f") {
-            WIDE_BLOCK
-        } else {
-            BLOCK
+        let interior = half..cols - half;
+        let Some(limits) = limits else {
+            filtered_columns::<POINTS>(stencil, r, src, ring, &mut row_out, ow, interior);
+            continue;
         };
-        match half {
-            _ if !shared => direct_row(&stencil.grid, r, src, row_out, ow),
-            1 => shared_row::<8, POINTS>(stencil, r, src, ring, row_out, ow),
-            2 => shared_row::<24, POINTS>(stencil, r, src, ring, row_out, ow),
-            _ => shared_row::<48, POINTS>(stencil, r, src, ring, row_out, ow),
+        let span = r * cols..(r + 1) * cols;
+        for b in (0..limits.blocks).filter(|&b| !limits.active(r, b)) {
+            let block = b * SKIP_COLUMNS..((b + 1) * SKIP_COLUMNS).min(cols);
+            let from = span.start + block.start..span.start + block.end;
+            for (o, s) in row_out.iter_mut().zip([src.x, src.y, src.z]) {
+                o[block.clone()].copy_from_slice(&s[from.clone()]);
+            }
         }
-        if let Some(limits) = limits {
-            for (i, &limit) in limits.per_pixel[span.clone()].iter().enumerate() {
+        for run in limits.runs(cols, |b| limits.active(r, b)) {
+            let inside = run.start.max(interior.start)..run.end.min(interior.end);
+            if !inside.is_empty() {
+                filtered_columns::<POINTS>(stencil, r, src, ring, &mut row_out, ow, inside);
+            }
+            // Pixels done before this pass keep their points.
+            let [ox, oy, oz] = &mut row_out;
+            for c in run {
+                let limit = limits.per_pixel[span.start + c];
                 if limit <= limits.pass {
-                    let k = span.start + i;
-                    (ox[i], oy[i], oz[i]) = (src.x[k], src.y[k], src.z[k]);
+                    let k = span.start + c;
+                    (ox[c], oy[c], oz[c]) = (src.x[k], src.y[k], src.z[k]);
                     if limit == 0 {
-                        ow[i] = 0.0;
+                        ow[c] = 0.0;
                     }
                 }
             }
@@ -386,10 +455,42 @@ fn rows_of_band(
     }
 }
 
-/// The inverse distances `1 / (d + ε)` between row `r`'s points and those at each
-/// forward offset, into the ring; pairs reaching past the grid are skipped.
+/// Writes the points of the interior `columns` of row `r` (within `half` of no border)
+/// of the next pass into the row planes `out` and their weight sums into `sums`, `POINTS`
+/// at a time where the pairs are shared ([`shared_row`]).
 #[inline(always)]
-fn pair_inverses(stencil: &Stencil, r: usize, src: &Source<'_>, ring: &mut [f32]) {
+fn filtered_columns<const POINTS: usize>(
+    stencil: &Stencil,
+    r: usize,
+    src: &Source<'_>,
+    ring: &[f32],
+    [ox, oy, oz]: &mut [&mut [f32]; 3],
+    sums: &mut [f32],
+    columns: Range<usize>,
+) {
+    let out = [&mut **ox, &mut **oy, &mut **oz];
+    // (Called, not taken as a function pointer: only inlined into the row kernel does it
+    // get its target features.)
+    match stencil.grid.half {
+        _ if !stencil.offsets.shares_pairs() => {
+            direct_row(&stencil.grid, r, src, out, sums, columns);
+        }
+        1 => shared_row::<8, POINTS>(stencil, r, src, ring, out, sums, columns),
+        2 => shared_row::<24, POINTS>(stencil, r, src, ring, out, sums, columns),
+        _ => shared_row::<48, POINTS>(stencil, r, src, ring, out, sums, columns),
+    }
+}
+
+/// The inverse distances `1 / (d + ε)` between the points of row `r` in `columns` and
+/// those at each forward offset, into the ring; pairs reaching past the grid are skipped.
+#[inline(always)]
+fn pair_inverses(
+    stencil: &Stencil,
+    r: usize,
+    src: &Source<'_>,
+    ring: &mut [f32],
+    columns: Range<usize>,
+) {
     let Grid {
         rows,
         cols,
@@ -401,8 +502,12 @@ fn pair_inverses(stencil: &Stencil, r: usize, src: &Source<'_>, ring: &mut [f32]
             continue;
         }
         // Points c with c + dc inside the row.
-        let lo = dc.min(0).unsigned_abs();
-        let len = cols - dc.unsigned_abs();
+        let lo = dc.min(0).unsigned_abs().max(columns.start);
+        let hi = (cols - dc.max(0) as usize).min(columns.end);
+        if lo >= hi {
+            continue;
+        }
+        let len = hi - lo;
         let p = r * cols + lo;
         let q = ((r + dr) * cols + lo).wrapping_add_signed(dc);
         let [px, py, pz] = [src.x, src.y, src.z].map(|s| &s[p..p + len]);
@@ -427,47 +532,46 @@ const BLOCK: usize = 16;
 /// [`BLOCK`] with AVX-512: 32 points take 8 of its 32 vector registers.
 const WIDE_BLOCK: usize = 32;
 
-/// Writes row `r` of the next pass into `out` and its weight sums into `sums`, from the
-/// inverse distances of rows `r − half ..= r` in the ring; the sums of `POINTS` points
-/// ([`BLOCK`] or [`WIDE_BLOCK`]) at a time stay in registers while every term is added
-/// to them and while the points move ([`finished`]: moving them in a second pass over
-/// the written row, as [`direct_row`] does, took the filter 6 % longer at 424 × 240).
+/// Writes the points of the interior `columns` of row `r` of the next pass into the row
+/// planes `out` and their weight sums into `sums`, from the inverse distances of rows
+/// `r − half ..= r` in the ring; the sums of `POINTS` points ([`BLOCK`] or
+/// [`WIDE_BLOCK`]) at a time stay in registers while every term is added to them and
+/// while the points move ([`finished`]: moving them in a second pass over the written
+/// row, as [`direct_row`] does, took the filter 6 % longer at 424 × 240).
 #[inline(always)]
 fn shared_row<const TERMS: usize, const POINTS: usize>(
     stencil: &Stencil,
     r: usize,
     src: &Source<'_>,
     ring: &[f32],
-    out: [&mut [f32]; 3],
+    [ox, oy, oz]: [&mut [f32]; 3],
     sums: &mut [f32],
+    columns: Range<usize>,
 ) {
     let grid = &stencil.grid;
-    let [ox, oy, oz] = out;
-    let Some(own) = copy_borders(grid, r, src, [&mut *ox, &mut *oy, &mut *oz], sums) else {
-        return;
-    };
-    let Grid { cols, half, .. } = *grid;
-    let len = cols - 2 * half;
+    let cols = grid.cols;
+    let own = r * cols + columns.start;
+    let len = columns.len();
     // Per neighbour, in raster order: its x, y, z, mask and the pair's inverse distance.
     // Filled in a loop: `std::array::from_fn` ran out of line, a call per term.
     let mut terms: [[&[f32]; 5]; TERMS] = [[&[]; 5]; TERMS];
     debug_assert_eq!(stencil.offsets.neighbours.len(), TERMS);
     for (nb, term) in stencil.offsets.neighbours.iter().zip(&mut terms) {
         let inverses = if nb.forward {
-            stencil.ring_row(r, nb.pair) + half
+            stencil.ring_row(r, nb.pair) + columns.start
         } else {
             let row = r.wrapping_add_signed(nb.dr);
-            (stencil.ring_row(row, nb.pair) + half).wrapping_add_signed(nb.dc)
+            (stencil.ring_row(row, nb.pair) + columns.start).wrapping_add_signed(nb.dc)
         };
         let q = own.wrapping_add_signed(nb.dr * cols as isize + nb.dc);
         let [x, y, z, m] = [src.x, src.y, src.z, src.m].map(|p| span(p, q, len));
         *term = [x, y, z, m, span(ring, inverses, len)];
     }
     let mut planes = [
-        &mut ox[half..half + len],
-        &mut oy[half..half + len],
-        &mut oz[half..half + len],
-        &mut sums[half..half + len],
+        &mut ox[columns.clone()],
+        &mut oy[columns.clone()],
+        &mut oz[columns.clone()],
+        &mut sums[columns],
     ];
     row_in_blocks(
         len,
@@ -508,22 +612,22 @@ fn term_sums<const N: usize, const TERMS: usize>(
     acc
 }
 
-/// Copies row `r`'s border pixels (all of a border row) from `src` into `out`, with
-/// zero weight sums; `Some(first interior pixel)` unless the row is a border row.
+/// Copies row `r`'s border pixels (all of a border row) from `src` into the row planes
+/// `out`, with zero weight sums; whether the row has interior pixels (is no border row).
 #[inline(always)]
 fn copy_borders(
     grid: &Grid,
     r: usize,
     src: &Source<'_>,
-    out: [&mut [f32]; 3],
+    out: &mut [&mut [f32]; 3],
     sums: &mut [f32],
-) -> Option<usize> {
+) -> bool {
     let Grid {
         rows, cols, half, ..
     } = *grid;
     let base = r * cols;
     let border_row = r < half || r + half >= rows;
-    for (o, s) in out.into_iter().zip([src.x, src.y, src.z]) {
+    for (o, s) in out.iter_mut().zip([src.x, src.y, src.z]) {
         let s = &s[base..base + cols];
         if border_row {
             o.copy_from_slice(s);
@@ -534,11 +638,11 @@ fn copy_borders(
     }
     if border_row {
         sums.fill(0.0);
-        return None;
+        return false;
     }
     sums[..half].fill(0.0);
     sums[cols - half..].fill(0.0);
-    Some(base + half)
+    true
 }
 
 /// Moves the interior points from `own` on by λ towards their neighbours' weighted mean
@@ -601,28 +705,33 @@ fn moved(lambda: f32, [ax, ay, az, aw]: [f32; 4], [vx, vy, vz]: [f32; 3], valid:
     }
 }
 
-/// Writes row `r` of the next pass into `out` and its weight sums into `sums`, each
-/// neighbour's weight computed where it is used: the filter's definition.
+/// Writes the points of the interior `columns` of row `r` of the next pass into the row
+/// planes `out` and their weight sums into `sums`, each neighbour's weight computed where
+/// it is used: the filter's definition.
 #[inline(always)]
-fn direct_row(grid: &Grid, r: usize, src: &Source<'_>, out: [&mut [f32]; 3], sums: &mut [f32]) {
-    let [ox, oy, oz] = out;
-    let Some(own) = copy_borders(grid, r, src, [&mut *ox, &mut *oy, &mut *oz], sums) else {
-        return;
-    };
+fn direct_row(
+    grid: &Grid,
+    r: usize,
+    src: &Source<'_>,
+    [ox, oy, oz]: [&mut [f32]; 3],
+    sums: &mut [f32],
+    columns: Range<usize>,
+) {
     let Grid {
         cols,
         half,
         epsilon,
         ..
     } = *grid;
-    let len = cols - 2 * half;
+    let own = r * cols + columns.start;
+    let len = columns.len();
     let vx = &src.x[own..own + len];
     let vy = &src.y[own..own + len];
     let vz = &src.z[own..own + len];
-    let ax = &mut ox[half..half + len];
-    let ay = &mut oy[half..half + len];
-    let az = &mut oz[half..half + len];
-    let aw = &mut sums[half..half + len];
+    let ax = &mut ox[columns.clone()];
+    let ay = &mut oy[columns.clone()];
+    let az = &mut oz[columns.clone()];
+    let aw = &mut sums[columns.clone()];
     ax.fill(0.0);
     ay.fill(0.0);
     az.fill(0.0);
@@ -633,7 +742,7 @@ fn direct_row(grid: &Grid, r: usize, src: &Source<'_>, out: [&mut [f32]; 3], sum
             if dr == half && dc == half {
                 continue;
             }
-            let start = (r + dr - half) * cols + dc;
+            let start = (r + dr - half) * cols + columns.start + dc - half;
             let qx = &src.x[start..start + len];
             let qy = &src.y[start..start + len];
             let qz = &src.z[start..start + len];
@@ -660,6 +769,27 @@ mod tests {
     use rand_chacha::ChaCha8Rng;
 
     use super::*;
+
+    /// The next pass by the filter's definition, x, y, z and weight sums: each row's
+    /// borders kept, its interior from [`direct_row`].
+    fn direct(grid: &Grid, src: &Source<'_>) -> [Vec<f32>; 4] {
+        let cols = grid.cols;
+        let mut next = [(); 4].map(|_| vec![0.0f32; grid.rows * cols]);
+        let [nx, ny, nz, sums] = &mut next;
+        for r in 0..grid.rows {
+            let at = r * cols..(r + 1) * cols;
+            let mut out = [
+                &mut nx[at.clone()],
+                &mut ny[at.clone()],
+                &mut nz[at.clone()],
+            ];
+            let sums = &mut sums[at];
+            if copy_borders(grid, r, src, &mut out, sums) {
+                direct_row(grid, r, src, out, sums, grid.half..cols - grid.half);
+            }
+        }
+        next
+    }
 
     /// The band kernel chosen at run time (AVX-512 or AVX2 where the CPU has them), which
     /// shares each pair's inverse distance through the ring up to kernel 7, gives the bits
@@ -700,17 +830,7 @@ mod tests {
                     },
                     offsets: Offsets::new(half),
                 };
-                let mut want = [(); 4].map(|_| vec![0.0; n]);
-                let [wx, wy, wz, ww] = &mut want;
-                for r in 0..rows {
-                    let at = r * cols..(r + 1) * cols;
-                    let out = [
-                        &mut wx[at.clone()],
-                        &mut wy[at.clone()],
-                        &mut wz[at.clone()],
-                    ];
-                    direct_row(&stencil.grid, r, &src, out, &mut ww[at]);
-                }
+                let want = direct(&stencil.grid, &src);
                 // Bands continuing one ring (in order, as a rayon task takes them), and
                 // bands each on a ring of stale values.
                 let stale = || {
@@ -750,6 +870,84 @@ mod tests {
                         "half {half}, cols {cols}, band {band}, shared ring {shared}"
                     );
                 }
+            }
+        }
+    }
+
+    /// With per-pixel counts each pixel ends where the filter's definition leaves it
+    /// after its own count of passes: [`direct`] over every pixel of every row in every
+    /// pass, a pixel keeping its point once its count is reached. Its weight sum is
+    /// positive exactly where its last pass moved it. Kernels 3 to 9, on one thread and in
+    /// bands, with counts that leave whole blocks and rows done early and some pixels of
+    /// one block taking more passes than all their neighbours.
+    #[test]
+    fn per_pixel_passes_match_the_definition_pass_by_pass() {
+        let (rows, cols) = (37, 2 * SKIP_COLUMNS + 11);
+        let n = rows * cols;
+        let mut rng = ChaCha8Rng::seed_from_u64(11);
+        for half in 1..=4 {
+            let points: Vec<[f64; 3]> = (0..n)
+                .map(|i| match i % 7 {
+                    3 => [f64::NAN; 3],
+                    _ => [rng.random(), rng.random(), 1.0 + rng.random::<f64>()],
+                })
+                .collect();
+            let passes: Vec<u8> = (0..n)
+                .map(|i| match (i / cols, i % cols) {
+                    (0..10, c) if c < SKIP_COLUMNS => 0,
+                    (20..25, c) if c >= 2 * SKIP_COLUMNS => rng.random_range(3..=6),
+                    (30.., _) => 1,
+                    _ => rng.random_range(0..=2),
+                })
+                .collect();
+            let cloud = OrganizedPointCloud::new(rows, cols, points).unwrap();
+            let (lambda, epsilon) = (0.7, 1e-4);
+            let grid = Grid {
+                rows,
+                cols,
+                half,
+                lambda,
+                epsilon,
+            };
+            let mut want = [(); 4].map(|_| vec![0.0f32; n]);
+            let [x, y, z, m] = &mut want;
+            fill_planes(cloud.points(), cols, false, [x, y, z, m]);
+            let mut moved = vec![false; n];
+            for pass in 0..passes.iter().copied().max().unwrap() {
+                let [x, y, z, m] = &want;
+                let src = Source { x, y, z, m };
+                let next = direct(&grid, &src);
+                for i in (0..n).filter(|&i| passes[i] > pass) {
+                    for k in 0..3 {
+                        want[k][i] = next[k][i];
+                    }
+                    moved[i] = next[3][i] > 0.0;
+                }
+            }
+            let options = LaplacianOptions::new()
+                .with_kernel(2 * half as u32 + 1)
+                .with_lambda(lambda)
+                .with_epsilon(epsilon);
+            for parallel in [false, true] {
+                let mut work = LaplacianWork::default();
+                let got = filter(
+                    &mut work,
+                    &cloud,
+                    &options,
+                    Passes::PerPixel(&passes),
+                    parallel,
+                )
+                .unwrap();
+                let bits = |p: &[f32]| -> Vec<u32> { p.iter().map(|v| v.to_bits()).collect() };
+                for (k, (got, want)) in [got.x, got.y, got.z].into_iter().zip(&want).enumerate() {
+                    assert_eq!(
+                        bits(got),
+                        bits(want),
+                        "half {half}, parallel {parallel}, plane {k}"
+                    );
+                }
+                let got_moved: Vec<bool> = got.weight_sums.iter().map(|&w| w > 0.0).collect();
+                assert_eq!(got_moved, moved, "half {half}, parallel {parallel}");
             }
         }
     }
