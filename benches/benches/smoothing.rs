@@ -10,18 +10,22 @@
 //! rows); the result (a new cloud, or per-slot normals) is allocated each call.
 //! `CpuParallel` uses rayon's global pool: set `RAYON_NUM_THREADS=2` for the issue's
 //! 2-thread rows on a larger machine. Data: `../shared/fixtures/synpeb/pc_01.pcd`
-//! (500 × 500) and `realsense/rgbd_opc.npy` (120 × 212); synthetic clouds of the same sizes
-//! with NaN holes when they are absent. GPU rows (steady state: one `GpuSmoother`, upload
+//! (500 × 500), `realsense/rgbd_opc.npy` (120 × 212) and `rgbd/tum_depth.png` (640 × 480,
+//! the per-pixel passes); synthetic clouds of the same sizes with NaN holes when they are
+//! absent. GPU rows (steady state: one `GpuSmoother`, upload
 //! and read-back included each call; `first_call`: creating the smoother too) run where an
 //! adapter exists.
 #![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
 
+use std::borrow::Cow;
 use std::hint::black_box;
 use std::time::Duration;
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
-use mesh_smooth_gpu::{BilateralOptions, CpuSmoother, GpuSmoother, LaplacianOptions};
-use opc_mesh::OrganizedPointCloud;
+use mesh_smooth_gpu::{
+    BilateralOptions, CpuSmoother, GpuSmoother, LaplacianOptions, passes_by_range,
+};
+use opc_mesh::{DepthOptions, Intrinsics, OrganizedPointCloud};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -58,6 +62,23 @@ fn rgbd_opc() -> OrganizedPointCloud {
         .and_then(|npy| npy.into_point_cloud().ok())
         .and_then(|pc| OrganizedPointCloud::new(pc.rows, pc.cols, pc.points).ok())
         .unwrap_or_else(|| synthetic(120, 212))
+}
+
+/// The TUM RGB-D frame (640 × 480, 5000 units per metre, PrimeSense intrinsics), or a
+/// synthetic cloud of its size.
+fn tum() -> OrganizedPointCloud {
+    let camera = test_fixtures::fixture("rgbd/camera_primesense.json")
+        .and_then(|path| polylidar_io::read_open3d_camera(path).ok());
+    test_fixtures::fixture("rgbd/tum_depth.png")
+        .and_then(|path| polylidar_io::read_depth_png(path).ok())
+        .zip(camera)
+        .and_then(|(depth, k)| {
+            let intrinsics = Intrinsics::new(k.fx, k.fy, k.ppx, k.ppy);
+            let options = DepthOptions::new(intrinsics).with_depth_scale(1.0 / 5000.0);
+            OrganizedPointCloud::from_depth_image(&depth.data, depth.height, depth.width, &options)
+                .ok()
+        })
+        .unwrap_or_else(|| synthetic(480, 640))
 }
 
 fn gpu() -> Option<GpuSmoother> {
@@ -161,5 +182,32 @@ fn issue_rows(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, issue_rows, paper_tables);
+/// The Laplacian with passes growing with range, as `rgbd-auto` runs it: kernel 5, λ 1,
+/// 4 passes at the median range and up to 16 beyond ([`passes_by_range`], exponent 1),
+/// on a 640 × 480 depth frame.
+fn per_pixel_passes(c: &mut Criterion) {
+    let cloud = tum();
+    let passes = passes_by_range(&cloud, 4, 1.0).expect("valid points");
+    let options = LaplacianOptions::new().with_kernel(5).with_lambda(1.0);
+    let mut group = c.benchmark_group("smoothing_per_pixel_passes");
+    group
+        .sample_size(20)
+        .measurement_time(Duration::from_secs(4));
+    for (backend, smoother) in CPU_BACKENDS {
+        let mut cpu = smoother();
+        group.bench_function(BenchmarkId::new("laplacian_k5_range/tum", backend), |b| {
+            b.iter(|| {
+                let smoothed = cpu.laplacian_smoothed(
+                    Cow::Borrowed(black_box(&cloud)),
+                    &options,
+                    Some(&passes),
+                );
+                smoothed.map(|s| s.into_cloud())
+            });
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, issue_rows, paper_tables, per_pixel_passes);
 criterion_main!(benches);

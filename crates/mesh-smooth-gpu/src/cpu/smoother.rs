@@ -105,8 +105,9 @@ impl CpuSmoother {
     /// The Laplacian filter with a pass count per pixel: pixel `i` moves in the first
     /// `passes[i]` passes only (0: not at all) and keeps its place afterwards, still
     /// weighing in its neighbours' means; `options.iterations` is ignored (the largest
-    /// count is run). Rows whose pixels are all done are skipped. For noise that differs
-    /// across the image, such as an RGB-D camera's depth error growing with range.
+    /// count is run). Blocks of 32 columns whose pixels are all done are skipped. For
+    /// noise that differs across the image, such as an RGB-D camera's depth error growing
+    /// with range.
     ///
     /// Every pixel with the same count `n` gives exactly [`Self::laplacian_in_place`] with
     /// `n` iterations.
