@@ -442,9 +442,9 @@ fn rows_of_band(
             // Pixels done before this pass keep their points.
             let [ox, oy, oz] = &mut row_out;
             for c in run {
-                let limit = limits.per_pixel[span.start + c];
+                let k = span.start + c;
+                let limit = limits.per_pixel[k];
                 if limit <= limits.pass {
-                    let k = span.start + c;
                     (ox[c], oy[c], oz[c]) = (src.x[k], src.y[k], src.z[k]);
                     if limit == 0 {
                         ow[c] = 0.0;
