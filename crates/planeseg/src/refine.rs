@@ -1034,29 +1034,51 @@ fn one_plane(a: &PlaneSums, b: &PlaneSums, floor: f64) -> Option<PlaneSums> {
 mod tests {
     use super::*;
 
-    #[test]
-    fn absorption_claims_the_same_triangles_searched_in_parallel_or_in_turn() {
-        // Noisy heights, so that some triangles stay out and the fronts meet unevenly;
-        // five segments on two planes compete for the rest.
+    /// A mesh of the 60 × 60 unit grid with normals, vertex `i` at `(x, y)` lifted by
+    /// `height(x, i)`, keeping the grid's triangles `t` where `keep(t)`.
+    fn grid(height: impl Fn(f64, usize) -> f64, keep: impl Fn(usize) -> bool) -> HalfEdgeMesh {
         let n = 60;
         let vertices = (0..(n + 1) * (n + 1))
             .map(|i| {
                 let (x, y) = ((i % (n + 1)) as f64, (i / (n + 1)) as f64);
-                [x, y, 0.05 * ((i * 7919 % 13) as f64 / 12.0)]
+                [x, y, height(x, i)]
             })
             .collect();
-        let mut mesh =
-            HalfEdgeMesh::from_triangles(vertices, test_fixtures::grid_triangles(n)).unwrap();
+        let triangles = test_fixtures::grid_triangles(n)
+            .into_iter()
+            .enumerate()
+            .filter(|&(t, _)| keep(t))
+            .map(|(_, tri)| tri)
+            .collect();
+        let mut mesh = HalfEdgeMesh::from_triangles(vertices, triangles).unwrap();
         mesh.compute_triangle_normals();
-        let m = Mesh {
+        mesh
+    }
+
+    /// Refinement's view of `mesh`, edges of any length, `norm_thresh` 0.9.
+    fn view(mesh: &HalfEdgeMesh, z_thresh: f64) -> Mesh<'_> {
+        Mesh {
             vertices: mesh.vertices(),
             triangles: mesh.triangles(),
             twins: mesh.halfedges(),
             normals: mesh.triangle_normals().unwrap(),
             lmax2: f64::INFINITY,
-            z_thresh: 0.04,
+            z_thresh,
             norm_thresh: 0.9,
-        };
+        }
+    }
+
+    /// Heights between 0 and 1 in a scrambled order, by vertex index.
+    fn noise(i: usize) -> f64 {
+        (i * 7919 % 13) as f64 / 12.0
+    }
+
+    #[test]
+    fn absorption_claims_the_same_triangles_searched_in_parallel_or_in_turn() {
+        // Noisy heights, so that some triangles stay out and the fronts meet unevenly;
+        // five segments on two planes compete for the rest.
+        let mesh = grid(|_, i| 0.05 * noise(i), |_| true);
+        let m = view(&mesh, 0.04);
         let plane = |z| {
             Some(Plane {
                 normal: [0.0, 0.0, 1.0],
@@ -1104,37 +1126,15 @@ mod tests {
         // Two noisy terraces joined by a steep ramp, with bumps, on a grid with some
         // triangles missing: free growth makes several planes and leaves the bumps out;
         // absorption then takes some of what is left.
-        let n = 60;
-        let vertices = (0..(n + 1) * (n + 1))
-            .map(|i| {
-                let (x, y) = ((i % (n + 1)) as f64, (i / (n + 1)) as f64);
+        let mesh = grid(
+            |x, i| {
                 let terrace = (x - 28.0).clamp(0.0, 4.0) * 1.5;
                 let bump = if i % 23 == 0 { 0.05 } else { 0.0 };
-                [
-                    x,
-                    y,
-                    terrace + bump + 0.03 * ((i * 7919 % 13) as f64 / 12.0),
-                ]
-            })
-            .collect();
-        let triangles = test_fixtures::grid_triangles(n)
-            .into_iter()
-            .enumerate()
-            .filter(|(t, _)| t % 97 != 5)
-            .map(|(_, tri)| tri)
-            .collect();
-        let mut mesh = HalfEdgeMesh::from_triangles(vertices, triangles).unwrap();
-        mesh.compute_triangle_normals();
-        let with_z_thresh = |z_thresh| Mesh {
-            vertices: mesh.vertices(),
-            triangles: mesh.triangles(),
-            twins: mesh.halfedges(),
-            normals: mesh.triangle_normals().unwrap(),
-            lmax2: f64::INFINITY,
-            z_thresh,
-            norm_thresh: 0.9,
-        };
-        let m = with_z_thresh(0.04);
+                terrace + bump + 0.03 * noise(i)
+            },
+            |t| t % 97 != 5,
+        );
+        let m = view(&mesh, 0.04);
         let mut labels = vec![NONE; mesh.num_triangles()];
         let mut segments = Vec::new();
         let Free { planes, edges } = grow_free(&m, &mut labels, &mut segments, &|triangles, _| {
@@ -1161,7 +1161,7 @@ mod tests {
         }
         // Absorbing with a looser height test than growth's, so that there is more to take
         // than growth left; levels searched in parallel and in turn.
-        let wider = with_z_thresh(0.06);
+        let wider = view(&mesh, 0.06);
         for parallel_from in [0, usize::MAX] {
             let mut from_edges = (labels.clone(), segments.clone());
             let mut from_all = (labels.clone(), segments.clone());
