@@ -45,10 +45,7 @@ fn bench(c: &mut Criterion) {
         .sample_size(50)
         .measurement_time(Duration::from_secs(8));
     for threads in [1, 2] {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .expect("thread pool");
+        let pool = pool(threads);
         group.bench_function(format!("segment_pc_01_{threads}_threads"), |b| {
             b.iter(|| {
                 pool.install(|| segment(black_box(&mesh), &dominant, &segmentation))
@@ -64,6 +61,14 @@ fn bench(c: &mut Criterion) {
         });
     }
     group.finish();
+}
+
+/// A pool of `threads` threads to run a bench's iterations in.
+fn pool(threads: usize) -> rayon::ThreadPool {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .expect("thread pool")
 }
 
 /// The preset's smoothed mesh of `cloud` and FastGA's dominant normals of it, as the
@@ -122,10 +127,7 @@ fn refined(c: &mut Criterion) {
         .sample_size(20)
         .measurement_time(Duration::from_secs(10));
     for threads in [1, 2] {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .expect("thread pool");
+        let pool = pool(threads);
         let mut segmenter = Segmenter::new();
         group.bench_function(
             format!("segmenter_rgbd_auto_848x480_{threads}_threads"),
