@@ -12,9 +12,9 @@
 //! 2-thread rows on a larger machine. Data: `../shared/fixtures/synpeb/pc_01.pcd`
 //! (500 × 500), `realsense/rgbd_opc.npy` (120 × 212) and `rgbd/tum_depth.png` (640 × 480,
 //! the per-pixel passes); synthetic clouds of the same sizes with NaN holes when they are
-//! absent. GPU rows (steady state: one `GpuSmoother`, upload
-//! and read-back included each call; `first_call`: creating the smoother too) run where an
-//! adapter exists.
+//! absent (a fixture that is there but unreadable stops the bench). GPU rows (steady
+//! state: one `GpuSmoother`, upload and read-back included each call; `first_call`:
+//! creating the smoother too) run where an adapter exists.
 #![allow(clippy::expect_used, clippy::unwrap_used, clippy::panic)]
 
 use std::borrow::Cow;
@@ -50,35 +50,43 @@ fn synthetic(rows: usize, cols: usize) -> OrganizedPointCloud {
 }
 
 fn pc_01() -> OrganizedPointCloud {
-    test_fixtures::fixture("synpeb/pc_01.pcd")
-        .and_then(|path| polylidar_io::read_pcd(path).ok())
-        .and_then(|pcd| OrganizedPointCloud::new(pcd.rows, pcd.cols, pcd.points).ok())
-        .unwrap_or_else(|| synthetic(500, 500))
+    test_fixtures::fixture("synpeb/pc_01.pcd").map_or_else(
+        || synthetic(500, 500),
+        |path| {
+            let pcd = polylidar_io::read_pcd(path).expect("readable pc_01.pcd");
+            OrganizedPointCloud::new(pcd.rows, pcd.cols, pcd.points).expect("organized pc_01")
+        },
+    )
 }
 
 fn rgbd_opc() -> OrganizedPointCloud {
-    test_fixtures::fixture("realsense/rgbd_opc.npy")
-        .and_then(|path| polylidar_io::read_npy(path).ok())
-        .and_then(|npy| npy.into_point_cloud().ok())
-        .and_then(|pc| OrganizedPointCloud::new(pc.rows, pc.cols, pc.points).ok())
-        .unwrap_or_else(|| synthetic(120, 212))
+    test_fixtures::fixture("realsense/rgbd_opc.npy").map_or_else(
+        || synthetic(120, 212),
+        |path| {
+            let npy = polylidar_io::read_npy(path).expect("readable rgbd_opc.npy");
+            let pc = npy
+                .into_point_cloud()
+                .expect("rgbd_opc.npy holds a point cloud");
+            OrganizedPointCloud::new(pc.rows, pc.cols, pc.points).expect("organized rgbd_opc")
+        },
+    )
 }
 
 /// The TUM RGB-D frame (640 × 480, 5000 units per metre, PrimeSense intrinsics), or a
 /// synthetic cloud of its size.
 fn tum() -> OrganizedPointCloud {
-    let camera = test_fixtures::fixture("rgbd/camera_primesense.json")
-        .and_then(|path| polylidar_io::read_open3d_camera(path).ok());
-    test_fixtures::fixture("rgbd/tum_depth.png")
-        .and_then(|path| polylidar_io::read_depth_png(path).ok())
-        .zip(camera)
-        .and_then(|(depth, k)| {
-            let intrinsics = Intrinsics::new(k.fx, k.fy, k.ppx, k.ppy);
-            let options = DepthOptions::new(intrinsics).with_depth_scale(1.0 / 5000.0);
-            OrganizedPointCloud::from_depth_image(&depth.data, depth.height, depth.width, &options)
-                .ok()
-        })
-        .unwrap_or_else(|| synthetic(480, 640))
+    let (Some(png), Some(json)) = (
+        test_fixtures::fixture("rgbd/tum_depth.png"),
+        test_fixtures::fixture("rgbd/camera_primesense.json"),
+    ) else {
+        return synthetic(480, 640);
+    };
+    let depth = polylidar_io::read_depth_png(png).expect("readable tum_depth.png");
+    let k = polylidar_io::read_open3d_camera(json).expect("readable camera_primesense.json");
+    let options =
+        DepthOptions::new(Intrinsics::new(k.fx, k.fy, k.ppx, k.ppy)).with_depth_scale(1.0 / 5000.0);
+    OrganizedPointCloud::from_depth_image(&depth.data, depth.height, depth.width, &options)
+        .expect("TUM depth frame")
 }
 
 fn gpu() -> Option<GpuSmoother> {
